@@ -1,0 +1,36 @@
+// Output files written atomically: the bytes go to a temporary file beside the target, which is
+// renamed onto the final name only when complete. An interrupted run leaves the previous file
+// (or none) under the final name, never a half-written one.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace tumble::app {
+
+class AtomicFile {
+ public:
+  // Opens a temporary file in the target's directory; throws std::runtime_error naming the
+  // path when it cannot.
+  explicit AtomicFile(std::filesystem::path target);
+  ~AtomicFile();  // removes the temporary file unless commit() succeeded
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return out_; }
+  // Flushes, closes and renames onto the target. Throws std::runtime_error on any failure.
+  void commit();
+  const std::filesystem::path& target() const { return target_; }
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temporary_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+// Writes `contents` to `target` atomically.
+void write_file_atomically(const std::filesystem::path& target, const std::string& contents);
+
+}  // namespace tumble::app

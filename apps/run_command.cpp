@@ -1,0 +1,106 @@
+#include "apps/run_command.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "apps/atomic_file.hpp"
+#include "apps/run_summary.hpp"
+#include "apps/trajectory_writer.hpp"
+#include "engine/world.hpp"
+#include "scenes/scene_loader.hpp"
+
+namespace tumble::app {
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) {
+  g_interrupted = 1;
+}
+
+// Steps needed to cover `duration`: the quotient rounded up, except that a quotient within
+// rounding of an integer counts as that integer (5 s at dt = 1/60 is 300 steps, not 301).
+std::int64_t steps_for(double duration, double dt) {
+  const double q = duration / dt;
+  const double nearest = std::round(q);
+  if (std::abs(q - nearest) <= 1e-9 * std::max(1.0, nearest)) {
+    return static_cast<std::int64_t>(nearest);
+  }
+  return static_cast<std::int64_t>(std::ceil(q));
+}
+
+}  // namespace
+
+int run_command(const RunOptions& options) {
+  auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  if (options.dt)
+    scene->world.dt = *options.dt;
+
+  std::int64_t steps = 0;
+  if (options.steps) {
+    steps = *options.steps;
+  } else if (options.duration) {
+    steps = steps_for(*options.duration, scene->world.dt);
+  } else if (scene->world.steps) {
+    steps = *scene->world.steps;
+  } else {
+    steps = steps_for(scene->world.duration, scene->world.dt);
+  }
+
+  std::filesystem::path dir = options.output_dir;
+  if (dir.empty())
+    dir = std::filesystem::path("out") / options.scene.stem();
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::cerr << "tumble run: " << dir.string() << ": cannot create output directory ("
+              << ec.message() << ")\n";
+    return 1;
+  }
+  const std::filesystem::path trajectory_path = dir / "trajectory.csv";
+  const std::filesystem::path summary_path = dir / "summary.json";
+
+  // Handlers first, so that an interrupt at any point from here on is an orderly stop.
+  g_interrupted = 0;
+  auto previous_int = std::signal(SIGINT, on_interrupt);
+  auto previous_term = std::signal(SIGTERM, on_interrupt);
+  World world(scene);
+  RunSummary summary(*scene, world, options.scene, steps);
+  TrajectoryWriter trajectory(trajectory_path, *scene);
+  const auto start = std::chrono::steady_clock::now();
+  trajectory.record(world.state());
+  for (std::int64_t k = 1; k <= steps && !g_interrupted; ++k) {
+    world.step();
+    summary.add_step(world.last_step_statistics());
+    if (k % options.record_every == 0 || k == steps)
+      trajectory.record(world.state());
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::signal(SIGINT, previous_int);
+  std::signal(SIGTERM, previous_term);
+  if (g_interrupted) {
+    // The temporary trajectory file is removed when `trajectory` goes out of scope; files from
+    // an earlier complete run stay as they were.
+    std::cerr << "tumble run: interrupted after " << world.state().step
+              << " steps; no output written\n";
+    return 130;
+  }
+  trajectory.finish();
+  summary.finish(world, wall, trajectory_path);
+  write_file_atomically(summary_path, summary.to_json() + "\n");
+  if (!options.quiet) {
+    std::cout << "tumble run: " << scene->bodies.size() << " bodies, " << steps << " steps ("
+              << world.state().time << " s simulated) in " << wall << " s\n"
+              << "  trajectory: " << trajectory_path.string() << "\n"
+              << "  summary:    " << summary_path.string() << "\n"
+              << "  final state hash: " << summary.final_hash_hex() << "\n";
+  }
+  return 0;
+}
+
+}  // namespace tumble::app

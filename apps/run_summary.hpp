@@ -1,0 +1,41 @@
+// The JSON summary of a run: settings used, stages run with their timings, contact counts,
+// energy, and the final state hash.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "engine/scene.hpp"
+#include "engine/step_statistics.hpp"
+#include "engine/world.hpp"
+
+namespace tumble::app {
+
+class RunSummary {
+ public:
+  RunSummary(const Scene& scene, const World& world, const std::filesystem::path& scene_path,
+             std::int64_t steps);
+  void add_step(const StepStatistics& step);
+  void finish(const World& world, double wall_seconds, const std::filesystem::path& trajectory);
+  std::string to_json() const;
+  std::string final_hash_hex() const;
+
+ private:
+  const Scene& scene_;
+  std::filesystem::path scene_path_;
+  std::int64_t steps_ = 0;
+  StepStatistics totals_;
+  std::int64_t max_contact_points_ = 0;
+  Real initial_kinetic_ = 0;
+  Real initial_potential_ = 0;
+  Real final_kinetic_ = 0;
+  Real final_potential_ = 0;
+  double wall_seconds_ = 0;
+  std::uint64_t final_hash_ = 0;
+  Real final_time_ = 0;
+  std::filesystem::path trajectory_;
+};
+
+std::string hash_hex(std::uint64_t hash);
+
+}  // namespace tumble::app

@@ -1,0 +1,50 @@
+#include "apps/trajectory_writer.hpp"
+
+#include "apps/number_format.hpp"
+
+namespace tumble::app {
+namespace {
+
+// RFC 4180 quoting, needed only for names holding a comma, quote or line break.
+void write_csv_field(std::ostream& out, const std::string& field) {
+  if (field.find_first_of(",\"\r\n") == std::string::npos) {
+    out << field;
+    return;
+  }
+  out << '"';
+  for (char c : field) {
+    if (c == '"')
+      out << '"';
+    out << c;
+  }
+  out << '"';
+}
+
+}  // namespace
+
+TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, const Scene& scene)
+    : file_(path), scene_(scene) {
+  file_.stream() << kTrajectoryHeader << '\n';
+}
+
+void TrajectoryWriter::record(const State& state) {
+  std::ostream& out = file_.stream();
+  for (std::size_t i = 0; i < state.bodies.size(); ++i) {
+    const BodyState& b = state.bodies[i];
+    write_number(out, state.time);
+    out << ',';
+    write_csv_field(out, scene_.bodies[i].name);
+    const Real values[] = {b.position.x(),        b.position.y(),         b.position.z(),
+                           b.orientation.w(),     b.orientation.x(),      b.orientation.y(),
+                           b.orientation.z(),     b.velocity.x(),         b.velocity.y(),
+                           b.velocity.z(),        b.angular_velocity.x(), b.angular_velocity.y(),
+                           b.angular_velocity.z()};
+    for (Real v : values) {
+      out << ',';
+      write_number(out, v);
+    }
+    out << '\n';
+  }
+}
+
+}  // namespace tumble::app

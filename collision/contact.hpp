@@ -1,0 +1,49 @@
+// The contact convention (design.md): for a pair (A, B) the normal is a unit vector pointing
+// from B to A, the depth is positive when the shapes penetrate and negative when they are apart,
+// and the point is world-space, midway between the two surfaces. Feature ids name which
+// vertex, edge or face of each shape made the point, so points can be matched across steps.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "collision/math.hpp"
+
+namespace tumble {
+
+// Which features of A and B produced a contact point. Shapes number their own features; a
+// swap of A and B swaps the two halves.
+struct FeatureId {
+  std::uint16_t a = 0;
+  std::uint16_t b = 0;
+
+  std::uint32_t key() const { return (std::uint32_t(a) << 16) | b; }
+  FeatureId swapped() const { return {b, a}; }
+  bool operator==(const FeatureId&) const = default;
+};
+
+struct ContactPoint {
+  Vec3 position = Vec3::Zero();  // world, midway between the surfaces [m]
+  Real depth = 0;                // positive = penetration [m]
+  FeatureId feature;
+
+  // The points on A and on B that the contact joins (n from B to A).
+  Vec3 point_on_a(const Vec3& normal) const { return position - normal * (depth * Real(0.5)); }
+  Vec3 point_on_b(const Vec3& normal) const { return position + normal * (depth * Real(0.5)); }
+};
+
+inline constexpr int kMaxManifoldPoints = 4;
+
+// Up to four points sharing one normal.
+struct Manifold {
+  Vec3 normal = Vec3::UnitZ();  // from B to A
+  int count = 0;
+  std::array<ContactPoint, kMaxManifoldPoints> points{};
+
+  void add(const Vec3& position, Real depth, FeatureId feature) {
+    if (count < kMaxManifoldPoints)
+      points[count++] = {position, depth, feature};
+  }
+};
+
+}  // namespace tumble

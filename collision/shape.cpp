@@ -1,0 +1,176 @@
+#include "collision/shape.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace tumble {
+
+std::string_view shape_type_name(ShapeType type) {
+  switch (type) {
+    case ShapeType::sphere:
+      return "sphere";
+    case ShapeType::box:
+      return "box";
+    case ShapeType::capsule:
+      return "capsule";
+    case ShapeType::plane:
+      return "plane";
+  }
+  return "unknown";
+}
+
+Shape Shape::sphere(Real radius) {
+  Shape s;
+  s.type = ShapeType::sphere;
+  s.radius = radius;
+  return s;
+}
+
+Shape Shape::box(const Vec3& half_extents) {
+  Shape s;
+  s.type = ShapeType::box;
+  s.half_extents = half_extents;
+  return s;
+}
+
+Shape Shape::capsule(Real radius, Real half_length) {
+  Shape s;
+  s.type = ShapeType::capsule;
+  s.radius = radius;
+  s.half_length = half_length;
+  return s;
+}
+
+Shape Shape::plane() {
+  Shape s;
+  s.type = ShapeType::plane;
+  return s;
+}
+
+namespace {
+
+// Unit vector along `d`, or +z for a zero direction, so support maps never divide by zero.
+Vec3 unit_or_z(const Vec3& d) {
+  const Real n = d.norm();
+  return n > 0 ? Vec3(d / n) : Vec3::UnitZ();
+}
+
+Real sign_or_plus(Real x) {
+  return x < 0 ? Real(-1) : Real(1);
+}
+
+}  // namespace
+
+Vec3 support(const Shape& shape, const Vec3& d) {
+  switch (shape.type) {
+    case ShapeType::sphere:
+      return unit_or_z(d) * shape.radius;
+    case ShapeType::box:
+      return {sign_or_plus(d.x()) * shape.half_extents.x(),
+              sign_or_plus(d.y()) * shape.half_extents.y(),
+              sign_or_plus(d.z()) * shape.half_extents.z()};
+    case ShapeType::capsule:
+      return Vec3(0, 0, sign_or_plus(d.z()) * shape.half_length) + unit_or_z(d) * shape.radius;
+    case ShapeType::plane:
+      break;
+  }
+  return Vec3::Zero();
+}
+
+Aabb world_aabb(const Shape& shape, const Transform& pose) {
+  const Vec3& c = pose.translation;
+  switch (shape.type) {
+    case ShapeType::sphere: {
+      const Vec3 r = Vec3::Constant(shape.radius);
+      return {c - r, c + r};
+    }
+    case ShapeType::box: {
+      // Extent along each world axis is |R| * h (Arvo, "Transforming Axis-Aligned Bounding
+      // Boxes", Graphics Gems 1990).
+      const Mat3 r = pose.rotation.toRotationMatrix().cwiseAbs();
+      const Vec3 e = r * shape.half_extents;
+      return {c - e, c + e};
+    }
+    case ShapeType::capsule: {
+      const Vec3 axis = pose.rotation * Vec3(0, 0, shape.half_length);
+      const Vec3 e = axis.cwiseAbs() + Vec3::Constant(shape.radius);
+      return {c - e, c + e};
+    }
+    case ShapeType::plane: {
+      const Real inf = std::numeric_limits<Real>::infinity();
+      Aabb box{Vec3::Constant(-inf), Vec3::Constant(inf)};
+      const Vec3 n = pose.rotation * Vec3::UnitZ();
+      for (int k = 0; k < 3; ++k) {
+        // Solid below the plane: bounded above along +k when the normal is exactly +k.
+        const Vec3 axis = Vec3::Unit(k);
+        if (n == axis)
+          box.max[k] = c[k];
+        if (n == -axis)
+          box.min[k] = c[k];
+      }
+      return box;
+    }
+  }
+  return {};
+}
+
+Real volume(const Shape& shape) {
+  constexpr Real pi = std::numbers::pi_v<Real>;
+  const Real r = shape.radius;
+  switch (shape.type) {
+    case ShapeType::sphere:
+      return Real(4) / 3 * pi * r * r * r;
+    case ShapeType::box:
+      return 8 * shape.half_extents.prod();
+    case ShapeType::capsule:
+      return pi * r * r * (2 * shape.half_length) + Real(4) / 3 * pi * r * r * r;
+    case ShapeType::plane:
+      return std::numeric_limits<Real>::infinity();
+  }
+  return 0;
+}
+
+Mat3 unit_inertia(const Shape& shape) {
+  const Real r = shape.radius;
+  switch (shape.type) {
+    case ShapeType::sphere:
+      return Mat3::Identity() * (Real(2) / 5 * r * r);
+    case ShapeType::box: {
+      const Vec3 h2 = shape.half_extents.cwiseProduct(shape.half_extents);
+      return Vec3(h2.y() + h2.z(), h2.x() + h2.z(), h2.x() + h2.y()).asDiagonal() * (Real(1) / 3);
+    }
+    case ShapeType::capsule: {
+      // Cylinder of height 2a plus two hemispherical caps. A cap of mass m_h has its centroid
+      // 3r/8 from its flat face and a transverse inertia of (83/320) m_h r^2 about it; with the
+      // parallel-axis shift the two caps give m_s (2r^2/5 + a^2 + 3ar/4) (m_s both caps).
+      const Real a = shape.half_length;
+      const Real v_cyl = 2 * a;            // proportional to pi r^2 (2a)
+      const Real v_sph = Real(4) / 3 * r;  // proportional to pi r^2 (4r/3)
+      const Real m_cyl = v_cyl / (v_cyl + v_sph);
+      const Real m_sph = v_sph / (v_cyl + v_sph);
+      const Real axial = m_cyl * r * r / 2 + m_sph * Real(2) / 5 * r * r;
+      const Real transverse = m_cyl * (r * r / 4 + a * a / 3) +
+                              m_sph * (Real(2) / 5 * r * r + a * a + Real(3) / 4 * a * r);
+      return Vec3(transverse, transverse, axial).asDiagonal();
+    }
+    case ShapeType::plane:
+      return Mat3::Zero();
+  }
+  return Mat3::Zero();
+}
+
+Real bounding_radius(const Shape& shape) {
+  switch (shape.type) {
+    case ShapeType::sphere:
+      return shape.radius;
+    case ShapeType::box:
+      return shape.half_extents.norm();
+    case ShapeType::capsule:
+      return shape.half_length + shape.radius;
+    case ShapeType::plane:
+      return std::numeric_limits<Real>::infinity();
+  }
+  return 0;
+}
+
+}  // namespace tumble

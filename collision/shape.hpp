@@ -1,0 +1,54 @@
+// Convex primitive shapes, in their local frame with the centre of mass at the origin.
+// Sphere, box, capsule (core segment along local z) and plane (the half-space z <= 0).
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "collision/aabb.hpp"
+#include "collision/math.hpp"
+
+namespace tumble {
+
+enum class ShapeType : std::uint8_t { sphere, box, capsule, plane };
+inline constexpr int kShapeTypeCount = 4;
+
+std::string_view shape_type_name(ShapeType type);
+
+// A flat value type: one struct for every primitive, so shapes sit in contiguous arrays and
+// dispatch is an index into a table. Fields a type does not use stay zero.
+struct Shape {
+  ShapeType type = ShapeType::sphere;
+  Real radius = 0;                   // sphere, capsule [m]
+  Real half_length = 0;              // capsule: half the length of the core segment [m]
+  Vec3 half_extents = Vec3::Zero();  // box [m]
+
+  static Shape sphere(Real radius);
+  static Shape box(const Vec3& half_extents);
+  static Shape capsule(Real radius, Real half_length);
+  static Shape plane();
+
+  // Bounded shapes can be dynamic; a plane is infinite and only ever static.
+  bool is_bounded() const { return type != ShapeType::plane; }
+};
+
+// Farthest point of the shape along `direction` (local frame; direction need not be unit).
+// For a plane the support is unbounded in most directions; it is never asked for.
+Vec3 support(const Shape& shape, const Vec3& direction);
+
+// World-space bounding box of the shape under `pose`. A plane's box is infinite except along a
+// world axis that is exactly its normal.
+Aabb world_aabb(const Shape& shape, const Transform& pose);
+
+// Volume [m^3]; infinite for a plane.
+Real volume(const Shape& shape);
+
+// Inertia tensor per unit mass about the centre of mass, in the local frame [m^2].
+// Multiply by the body's mass to get kg m^2.
+Mat3 unit_inertia(const Shape& shape);
+
+// Radius of the smallest origin-centred sphere that holds the shape [m]; used to bound the
+// speed of surface points from linear and angular velocity.
+Real bounding_radius(const Shape& shape);
+
+}  // namespace tumble

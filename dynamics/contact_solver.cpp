@@ -1,0 +1,271 @@
+#include "dynamics/contact_solver.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+namespace tumble {
+namespace {
+
+Real effective_mass(Real inv_mass_sum, const Mat3& inv_i_a, const Mat3& inv_i_b, const Vec3& r_a,
+                    const Vec3& r_b, const Vec3& axis) {
+  const Vec3 ra_x = r_a.cross(axis);
+  const Vec3 rb_x = r_b.cross(axis);
+  const Real k = inv_mass_sum + ra_x.dot(inv_i_a * ra_x) + rb_x.dot(inv_i_b * rb_x);
+  return k > 0 ? Real(1) / k : Real(0);
+}
+
+// The cached manifold of pair (a, b) in `previous` (sorted by pair), or null.
+const CachedManifold* find_cached(std::span<const CachedManifold> previous, std::int32_t a,
+                                  std::int32_t b) {
+  const auto it = std::lower_bound(previous.begin(), previous.end(), std::pair{a, b},
+                                   [](const CachedManifold& m, const std::pair<int, int>& key) {
+                                     return std::pair{m.body_a, m.body_b} < key;
+                                   });
+  if (it == previous.end() || it->body_a != a || it->body_b != b)
+    return nullptr;
+  return &*it;
+}
+
+}  // namespace
+
+void ContactSolver::prepare(std::span<const PairContact> contacts,
+                            std::span<const CachedManifold> previous,
+                            std::span<const BodyState> bodies, std::span<const BodyMass> masses,
+                            const ContactSolverSettings& settings) {
+  settings_ = settings;
+  points_.clear();
+  pairs_.clear();
+  pair_bodies_.clear();
+  const std::size_t n = bodies.size();
+  inverse_mass_.resize(n);
+  inverse_inertia_world_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inverse_mass_[i] = masses[i].inverse_mass;
+    const Mat3 r = bodies[i].orientation.toRotationMatrix();
+    inverse_inertia_world_[i] = r * masses[i].inverse_inertia * r.transpose();
+  }
+
+  // Soft spring of angular frequency w and damping ratio z, discretised implicitly over the
+  // substep h: a1 = 2 z + h w, a2 = h w a1, a3 = 1 / (1 + a2). The bias velocity is
+  // (w / a1) * separation, and the impulse is scaled so the response does not depend on mass.
+  const Real h = settings.substep;
+  const Real omega = 2 * std::numbers::pi_v<Real> * settings.contact_hertz;
+  const Real a1 = 2 * settings.contact_damping_ratio + h * omega;
+  const Real a2 = h * omega * a1;
+  const Real a3 = Real(1) / (1 + a2);
+  bias_rate_ = a1 > 0 ? omega / a1 : Real(0);
+  mass_scale_ = a2 * a3;
+  impulse_scale_ = a3;
+
+  for (const PairContact& pc : contacts) {
+    const std::int32_t a = pc.body_a;
+    const std::int32_t b = pc.body_b;
+    PairInfo info{static_cast<std::int32_t>(points_.size()), pc.manifold.count};
+    const Vec3 normal = pc.manifold.normal;
+    Vec3 t1, t2;
+    orthonormal_basis(normal, t1, t2);
+    const Real inv_mass_sum = inverse_mass_[a] + inverse_mass_[b];
+    const Mat3& ia = inverse_inertia_world_[a];
+    const Mat3& ib = inverse_inertia_world_[b];
+    for (int k = 0; k < pc.manifold.count; ++k) {
+      const ContactPoint& cp = pc.manifold.points[k];
+      Point p;
+      p.a = a;
+      p.b = b;
+      p.feature = cp.feature.key();
+      p.normal = normal;
+      p.tangent1 = t1;
+      p.tangent2 = t2;
+      p.r_a = cp.position - bodies[a].position;
+      p.r_b = cp.position - bodies[b].position;
+      p.local_a = bodies[a].orientation.conjugate() * p.r_a;
+      p.local_b = bodies[b].orientation.conjugate() * p.r_b;
+      // Both anchors start at the contact point, so the separation is -depth plus how far the
+      // anchors have moved apart along the normal.
+      p.base_separation = -cp.depth;
+      p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
+      p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
+      p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
+      p.friction = pc.friction;
+      p.restitution = pc.restitution;
+      points_.push_back(p);
+    }
+    if (const CachedManifold* cached = find_cached(previous, a, b)) {
+      warm_start_from(*cached, pc.match_distance,
+                      std::span(points_).subspan(info.first_point, info.count));
+    }
+    pairs_.push_back(info);
+    pair_bodies_.push_back(a);
+    pair_bodies_.push_back(b);
+  }
+}
+
+// Each cached point lends its impulses to at most one new point: first to the point with the
+// same feature id, then, for points still unmatched, to the nearest within `match_distance`.
+void ContactSolver::warm_start_from(const CachedManifold& cached, Real match_distance,
+                                    std::span<Point> points) {
+  std::array<bool, kMaxManifoldPoints> used{};
+  std::array<int, kMaxManifoldPoints> source;
+  source.fill(-1);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    for (int c = 0; c < cached.count; ++c) {
+      if (!used[c] && cached.points[c].feature == points[k].feature) {
+        used[c] = true;
+        source[k] = c;
+        break;
+      }
+    }
+  }
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (source[k] >= 0)
+      continue;
+    Real best = match_distance;
+    for (int c = 0; c < cached.count; ++c) {
+      const Real distance = (cached.points[c].local_point - points[k].local_a).norm();
+      if (!used[c] && distance < best) {
+        best = distance;
+        source[k] = c;
+      }
+    }
+    if (source[k] >= 0)
+      used[source[k]] = true;
+  }
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (source[k] < 0)
+      continue;
+    const CachedContactPoint& match = cached.points[source[k]];
+    Point& p = points[k];
+    p.normal_impulse = match.normal_impulse;
+    p.tangent_impulse1 = match.friction_impulse.dot(p.tangent1);
+    p.tangent_impulse2 = match.friction_impulse.dot(p.tangent2);
+  }
+}
+
+Vec3 ContactSolver::relative_velocity(const Point& p, std::span<const BodyState> bodies) const {
+  const BodyState& a = bodies[p.a];
+  const BodyState& b = bodies[p.b];
+  return a.velocity + a.angular_velocity.cross(p.r_a) - b.velocity -
+         b.angular_velocity.cross(p.r_b);
+}
+
+Real ContactSolver::separation(const Point& p, std::span<const BodyState> bodies) const {
+  const BodyState& a = bodies[p.a];
+  const BodyState& b = bodies[p.b];
+  const Vec3 anchor_a = a.position + a.orientation * p.local_a;
+  const Vec3 anchor_b = b.position + b.orientation * p.local_b;
+  return p.base_separation + (anchor_a - anchor_b).dot(p.normal);
+}
+
+void ContactSolver::apply_impulse(const Point& p, const Vec3& impulse,
+                                  std::span<BodyState> bodies) const {
+  BodyState& a = bodies[p.a];
+  BodyState& b = bodies[p.b];
+  a.velocity += inverse_mass_[p.a] * impulse;
+  a.angular_velocity += inverse_inertia_world_[p.a] * p.r_a.cross(impulse);
+  b.velocity -= inverse_mass_[p.b] * impulse;
+  b.angular_velocity -= inverse_inertia_world_[p.b] * p.r_b.cross(impulse);
+}
+
+void ContactSolver::warm_start(std::span<BodyState> bodies) const {
+  for (const Point& p : points_) {
+    const Vec3 impulse = p.normal * p.normal_impulse + p.tangent1 * p.tangent_impulse1 +
+                         p.tangent2 * p.tangent_impulse2;
+    apply_impulse(p, impulse, bodies);
+  }
+}
+
+void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
+  const Real inv_h = Real(1) / settings_.substep;
+  for (const PairInfo& pair : pairs_) {
+    const std::span<Point> points = std::span(points_).subspan(pair.first_point, pair.count);
+    // Normal constraints first, so friction works with this pass's normal impulses.
+    for (Point& p : points) {
+      const Real s = separation(p, bodies);
+      Real bias = 0;
+      Real mass_scale = 1;
+      Real impulse_scale = 0;
+      if (s > 0) {
+        bias = s * inv_h;  // speculative: close the gap within the substep, no further
+      } else if (use_bias) {
+        const Real excess = std::min(s + settings_.penetration_slop, Real(0));
+        bias = std::max(bias_rate_ * excess, -settings_.max_push_velocity);
+        mass_scale = mass_scale_;
+        impulse_scale = impulse_scale_;
+      }
+      const Real vn = relative_velocity(p, bodies).dot(p.normal);
+      const Real delta =
+          -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+      const Real new_impulse = std::max(p.normal_impulse + delta, Real(0));
+      const Real applied = new_impulse - p.normal_impulse;
+      p.normal_impulse = new_impulse;
+      if (!p.touched && new_impulse > 0) {
+        // The first push of this step: the normal velocity just before it is the impact
+        // velocity that restitution reflects.
+        p.touched = true;
+        p.impact_velocity = vn;
+      }
+      apply_impulse(p, p.normal * applied, bodies);
+    }
+    for (Point& p : points) {
+      const Vec3 v = relative_velocity(p, bodies);
+      const Real max_friction = p.friction * p.normal_impulse;
+      Real new1 = p.tangent_impulse1 - v.dot(p.tangent1) * p.tangent_mass1;
+      Real new2 = p.tangent_impulse2 - v.dot(p.tangent2) * p.tangent_mass2;
+      const Real magnitude = std::sqrt(new1 * new1 + new2 * new2);
+      if (magnitude > max_friction) {
+        // Clamp to the friction disc, not a box, so sliding friction is isotropic.
+        const Real scale = magnitude > 0 ? max_friction / magnitude : Real(0);
+        new1 *= scale;
+        new2 *= scale;
+      }
+      const Vec3 impulse =
+          p.tangent1 * (new1 - p.tangent_impulse1) + p.tangent2 * (new2 - p.tangent_impulse2);
+      p.tangent_impulse1 = new1;
+      p.tangent_impulse2 = new2;
+      apply_impulse(p, impulse, bodies);
+    }
+  }
+}
+
+// Called after each substep's relax pass. A point whose first push in this step met an
+// approach faster than the threshold leaves with -e times that impact velocity, once per step.
+// Bouncing in the substep of impact, not at the end of the step, keeps the bounce's timing
+// error to one substep. The bounce impulse is not added to the accumulated impulse: that one is
+// re-applied by every substep's warm start, and the bounce must happen once.
+void ContactSolver::apply_restitution(std::span<BodyState> bodies) {
+  for (Point& p : points_) {
+    if (p.restitution == 0 || !p.touched || p.bounced ||
+        p.impact_velocity > -settings_.restitution_threshold) {
+      continue;
+    }
+    p.bounced = true;
+    const Real vn = relative_velocity(p, bodies).dot(p.normal);
+    const Real impulse = -p.normal_mass * (vn + p.restitution * p.impact_velocity);
+    if (impulse > 0)
+      apply_impulse(p, p.normal * impulse, bodies);
+  }
+}
+
+void ContactSolver::store(std::vector<CachedManifold>& cache) const {
+  cache.clear();
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const PairInfo& info = pairs_[i];
+    CachedManifold m;
+    m.body_a = pair_bodies_[2 * i];
+    m.body_b = pair_bodies_[2 * i + 1];
+    m.count = info.count;
+    for (int k = 0; k < info.count; ++k) {
+      const Point& p = points_[info.first_point + k];
+      m.points[k].feature = p.feature;
+      m.points[k].local_point = p.local_a;
+      m.points[k].normal_impulse = p.normal_impulse;
+      m.points[k].friction_impulse =
+          p.tangent1 * p.tangent_impulse1 + p.tangent2 * p.tangent_impulse2;
+    }
+    cache.push_back(m);
+  }
+}
+
+}  // namespace tumble

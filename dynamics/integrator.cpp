@@ -1,0 +1,70 @@
+#include "dynamics/integrator.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace tumble {
+namespace {
+
+// Newton's method on f(w2) = I (w2 - w1) + h wm x I wm. The Jacobian is
+// I + h/2 ([wm]x I - [I wm]x). Converges in 2-4 iterations for h |w| < 1; the cap keeps a
+// pathological spin bounded in time, and the result is deterministic either way.
+Vec3 solve_midpoint(const Mat3& inertia, const Vec3& w1, Real h) {
+  constexpr int kMaxIterations = 16;
+  // Iterate to machine precision, so that the conserved quantities drift only by rounding.
+  const Real tolerance = 4 * std::numeric_limits<Real>::epsilon() * w1.norm();
+  Vec3 w2 = w1;
+  for (int i = 0; i < kMaxIterations; ++i) {
+    const Vec3 wm = Real(0.5) * (w1 + w2);
+    const Vec3 iwm = inertia * wm;
+    const Vec3 f = inertia * (w2 - w1) + h * wm.cross(iwm);
+    const Mat3 jacobian = inertia + Real(0.5) * h * (skew(wm) * inertia - skew(iwm));
+    const Vec3 step = jacobian.partialPivLu().solve(f);
+    w2 -= step;
+    if (!(step.norm() > tolerance))
+      break;
+  }
+  return w2;
+}
+
+// Rotates v by q, keeping |v| exactly. A normalised quaternion is unit only to rounding, and
+// the angular velocity goes from world to body frame and back every substep: without this,
+// the rounding of |q| compounds into a steady drift of kinetic energy (1e-12 over 2,400
+// substeps in tests/physics).
+Vec3 rotate_keeping_length(const Quat& q, const Vec3& v) {
+  const Vec3 r = q * v;
+  const Real n = r.norm();
+  return n > 0 ? Vec3(r * (v.norm() / n)) : r;
+}
+
+}  // namespace
+
+void integrate_velocity(BodyState& s, const BodyMass& m, const Vec3& gravity, Real h,
+                        GyroscopicCarry& carry) {
+  carry.half_change_body.setZero();
+  if (m.inverse_mass == 0)
+    return;
+  s.velocity += h * gravity;
+  if (m.is_isotropic)
+    return;  // w x I w = 0: nothing to integrate
+  const Vec3 w1 = rotate_keeping_length(s.orientation.conjugate(), s.angular_velocity);
+  const Vec3 w2 = solve_midpoint(m.inertia, w1, h);
+  carry.half_change_body = Real(0.5) * (w2 - w1);
+  s.angular_velocity = rotate_keeping_length(s.orientation, w2);
+}
+
+void integrate_position(BodyState& s, const GyroscopicCarry& carry, Real h) {
+  s.position += h * s.velocity;
+  const Vec3 w2_body = rotate_keeping_length(s.orientation.conjugate(), s.angular_velocity);
+  // Pose rotation rate: the solved velocity less the half of the gyroscopic change that belongs
+  // to the next step (midpoint rule); contact impulses act in full, as in symplectic Euler, so
+  // the pose follows the velocities the solver constrained.
+  const Vec3 rate_body = w2_body - carry.half_change_body;
+  const Vec3 half = Real(0.5) * h * rate_body;
+  Quat increment(1, half.x(), half.y(), half.z());
+  increment.normalize();
+  s.orientation = (s.orientation * increment).normalized();
+  s.angular_velocity = rotate_keeping_length(s.orientation, w2_body);
+}
+
+}  // namespace tumble

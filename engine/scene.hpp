@@ -1,0 +1,92 @@
+// A Scene is what a world *is*: settings, materials and body descriptions. It is constant while
+// the world steps; everything a step changes lives in `State` (state.hpp). This split (MuJoCo's
+// model/data) makes reset, copy, hashing, replay and batches of worlds cheap.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "collision/math.hpp"
+#include "collision/shape.hpp"
+
+namespace tumble {
+
+enum class SolverType : std::uint8_t { impulse, penalty };
+enum class BroadPhaseType : std::uint8_t { automatic, brute };
+enum class CcdMode : std::uint8_t { automatic, on, off };
+
+// Every setting has a unit and a default; docs/scene-format.md states them and what breaks when
+// they are wrong.
+struct WorldSettings {
+  Vec3 gravity{0, 0, Real(-9.81)};  // m/s^2
+  Real dt = Real(1) / 60;           // s, one step
+  // How long `tumble run` simulates unless the command line says otherwise: `steps` wins when
+  // set, else ceil(duration / dt) steps.
+  Real duration = 5;  // s
+  std::optional<std::int64_t> steps;
+  // The solver runs `substeps` substeps of dt / substeps per step; collision runs once per
+  // step. Each substep: gravity, warm start, `iterations` soft passes, positions,
+  // `relax_iterations` rigid passes (design: docs/architecture.md).
+  int substeps = 4;
+  SolverType solver = SolverType::impulse;
+  int iterations = 1;        // soft velocity passes per substep
+  int relax_iterations = 1;  // rigid velocity passes per substep
+  BroadPhaseType broadphase = BroadPhaseType::automatic;
+  CcdMode ccd = CcdMode::automatic;
+  // Contacts are created this far before the surfaces touch, plus the distance the bodies can
+  // close in one step (speculative contacts), so that resting contacts never flicker. [m]
+  Real contact_margin = Real(0.005);
+  // Penetration left alone, so that resting contacts stay in touch. [m]
+  Real penetration_slop = Real(0.0005);
+  // Stiffness of the spring that pushes penetrating bodies apart, capped at a quarter of the
+  // substep rate for stability. [Hz]
+  Real contact_hertz = 30;
+  // Damping ratio of that spring; well above 1 so pushing out never overshoots. [1]
+  Real contact_damping_ratio = 10;
+  // The fastest the spring pushes bodies apart. [m/s]
+  Real max_push_velocity = 3;
+  // Approach speeds below this bounce with no restitution, so resting bodies do not jitter. [m/s]
+  Real restitution_threshold = Real(0.2);
+};
+
+// Contact material. Pairs combine friction by the geometric mean and restitution by the maximum.
+struct Material {
+  std::string name;
+  Real friction = Real(0.5);  // Coulomb coefficient [1]
+  Real restitution = 0;       // [1], 0 = plastic, 1 = elastic
+};
+
+struct BodyDesc {
+  std::string name;
+  Shape shape;
+  Vec3 position = Vec3::Zero();          // m, centre of mass
+  Quat orientation = Quat::Identity();   // unit, body to world
+  Vec3 velocity = Vec3::Zero();          // m/s
+  Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
+  Real mass = 0;                         // kg; 0 for static bodies
+  Mat3 inertia = Mat3::Zero();           // kg m^2 about the centre of mass, body frame
+  int material = 0;                      // index into Scene::materials
+  bool is_static = false;
+  bool fast = false;  // always swept by continuous collision detection
+};
+
+struct Camera {
+  Vec3 position{6, -6, 4};  // m
+  Vec3 target{0, 0, 1};     // m
+  Real fov = 45;            // vertical field of view, degrees
+};
+
+struct Scene {
+  std::string source;  // where the scene came from (file path), for messages
+  WorldSettings world;
+  std::vector<Material> materials;  // materials[0] is "default"
+  std::vector<BodyDesc> bodies;
+  std::optional<Camera> camera;
+
+  int find_body(std::string_view name) const;
+  int find_material(std::string_view name) const;
+};
+
+}  // namespace tumble

@@ -1,0 +1,80 @@
+#include "engine/state.hpp"
+
+#include <bit>
+#include <cstring>
+
+namespace tumble {
+
+State initial_state(const Scene& scene) {
+  State s;
+  s.bodies.reserve(scene.bodies.size());
+  for (const BodyDesc& d : scene.bodies) {
+    BodyState b;
+    b.position = d.position;
+    b.orientation = d.orientation;
+    b.velocity = d.velocity;
+    b.angular_velocity = d.angular_velocity;
+    s.bodies.push_back(b);
+  }
+  return s;
+}
+
+namespace {
+
+// FNV-1a, 64 bit (Fowler, Noll, Vo). Values are fed as little-endian bytes of their bit
+// patterns so the hash does not depend on struct padding or the host's byte order.
+class Fnv1a {
+ public:
+  void add_u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) {
+      hash_ ^= (v >> (8 * i)) & 0xffu;
+      hash_ *= 0x100000001b3ull;
+    }
+  }
+  void add(Real x) { add_u64(std::bit_cast<std::uint64_t>(x)); }
+  void add(const Vec3& v) {
+    add(v.x());
+    add(v.y());
+    add(v.z());
+  }
+  void add(const Quat& q) {
+    add(q.w());
+    add(q.x());
+    add(q.y());
+    add(q.z());
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ull;
+};
+
+}  // namespace
+
+std::uint64_t state_hash(const State& state) {
+  Fnv1a h;
+  h.add(state.time);
+  h.add_u64(static_cast<std::uint64_t>(state.step));
+  h.add_u64(state.bodies.size());
+  for (const BodyState& b : state.bodies) {
+    h.add(b.position);
+    h.add(b.orientation);
+    h.add(b.velocity);
+    h.add(b.angular_velocity);
+  }
+  h.add_u64(state.contacts.size());
+  for (const CachedManifold& m : state.contacts) {
+    h.add_u64(static_cast<std::uint64_t>(m.body_a));
+    h.add_u64(static_cast<std::uint64_t>(m.body_b));
+    h.add_u64(static_cast<std::uint64_t>(m.count));
+    for (int k = 0; k < m.count; ++k) {
+      h.add_u64(m.points[k].feature);
+      h.add(m.points[k].local_point);
+      h.add(m.points[k].normal_impulse);
+      h.add(m.points[k].friction_impulse);
+    }
+  }
+  return h.value();
+}
+
+}  // namespace tumble

@@ -1,0 +1,28 @@
+// A State is everything a step changes: time, poses, velocities and the warm-start cache. It
+// is flat and copyable, so reset, copy, replay and batches of worlds are plain assignments.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dynamics/contact_cache.hpp"
+#include "dynamics/rigid_body.hpp"
+#include "engine/scene.hpp"
+
+namespace tumble {
+
+struct State {
+  Real time = 0;                         // s
+  std::int64_t step = 0;                 // steps taken
+  std::vector<BodyState> bodies;         // one per Scene::bodies entry, same order
+  std::vector<CachedManifold> contacts;  // sorted by (body_a, body_b)
+};
+
+// The state a scene starts in: bodies where the scene puts them, an empty contact cache.
+State initial_state(const Scene& scene);
+
+// A stable 64-bit hash of the state (FNV-1a over the bit patterns of every field, in a fixed
+// order and byte order), equal across runs, thread counts and machines with IEEE doubles.
+std::uint64_t state_hash(const State& state);
+
+}  // namespace tumble

@@ -1,0 +1,36 @@
+#include "engine/step_statistics.hpp"
+
+namespace tumble {
+
+std::string_view stage_name(Stage stage) {
+  switch (stage) {
+    case Stage::integrate_velocities:
+      return "integrate_velocities";
+    case Stage::bounds:
+      return "bounds";
+    case Stage::broad_phase:
+      return "broad_phase";
+    case Stage::narrow_phase:
+      return "narrow_phase";
+    case Stage::continuous:
+      return "continuous";
+    case Stage::solve:
+      return "solve";
+    case Stage::integrate_positions:
+      return "integrate_positions";
+  }
+  return "unknown";
+}
+
+void StepStatistics::accumulate(const StepStatistics& o) {
+  for (int i = 0; i < kStageCount; ++i) {
+    seconds[i] += o.seconds[i];
+    ran[i] = ran[i] || o.ran[i];
+  }
+  candidate_pairs += o.candidate_pairs;
+  touching_pairs += o.touching_pairs;
+  contact_points += o.contact_points;
+  solver_iterations += o.solver_iterations;
+}
+
+}  // namespace tumble

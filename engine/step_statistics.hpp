@@ -1,0 +1,35 @@
+// What one step did and how long each phase took (seed 4.5.5). Timings are wall-clock and vary
+// from run to run; they never feed back into the simulation.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+namespace tumble {
+
+enum class Stage : std::uint8_t {
+  integrate_velocities,
+  bounds,
+  broad_phase,
+  narrow_phase,
+  continuous,
+  solve,
+  integrate_positions,
+};
+inline constexpr int kStageCount = 7;
+
+std::string_view stage_name(Stage stage);
+
+struct StepStatistics {
+  std::array<double, kStageCount> seconds{};  // wall time per stage [s]
+  std::array<bool, kStageCount> ran{};        // whether the stage ran at all
+  std::int64_t candidate_pairs = 0;           // broad-phase output
+  std::int64_t touching_pairs = 0;            // pairs with a manifold
+  std::int64_t contact_points = 0;
+  std::int64_t solver_iterations = 0;
+
+  void accumulate(const StepStatistics& other);
+};
+
+}  // namespace tumble

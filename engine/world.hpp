@@ -1,0 +1,70 @@
+// The world stepper. `World::step` reads as the outline of the algorithm (design.md, "One
+// step"); each phase is a named function with its own timer.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "collision/broad_phase.hpp"
+#include "dynamics/contact_solver.hpp"
+#include "dynamics/integrator.hpp"
+#include "engine/scene.hpp"
+#include "engine/state.hpp"
+#include "engine/step_statistics.hpp"
+
+namespace tumble {
+
+class World {
+ public:
+  explicit World(std::shared_ptr<const Scene> scene);
+
+  const Scene& scene() const { return *scene_; }
+  const State& state() const { return state_; }
+  const BodyMass& mass(int body) const { return masses_[body]; }
+
+  // Replaces the state (reset, restore, replay). The broad phase is rebuilt from the new poses.
+  void set_state(const State& state);
+  void reset() { set_state(initial_state(*scene_)); }
+
+  // Advances by scene().world.dt, in scene().world.substeps equal substeps.
+  void step();
+
+  const StepStatistics& last_step_statistics() const { return last_step_; }
+
+  // Totals over all bodies [J]: kinetic, and gravitational potential relative to the origin.
+  Real kinetic_energy() const;
+  Real potential_energy() const;
+
+ private:
+  void update_bounds(Real dt);
+  void find_candidate_pairs();
+  void collide_candidate_pairs();
+  void prepare_contacts(Real h);
+  void integrate_velocities(Real h);
+  void solve_contacts(bool use_bias, int passes);
+  void integrate_positions(Real h);
+  void apply_restitution();
+  void finish_contacts();
+  void rebuild_broad_phase();
+
+  std::shared_ptr<const Scene> scene_;
+  State state_;
+
+  // Fixed per scene.
+  std::vector<BodyMass> masses_;
+  std::vector<Real> bounding_radii_;
+  std::vector<Transform> shape_poses_;  // scratch, current pose per body
+  std::unique_ptr<BroadPhase> broad_phase_;
+
+  // Scratch kept across steps so that a step does not allocate once capacities settle.
+  std::vector<GyroscopicCarry> carries_;
+  std::vector<Real> speculative_margin_;
+  std::vector<ProxyPair> candidate_pairs_;
+  std::vector<PairContact> contacts_;
+  ContactSolver solver_;
+
+  StepStatistics current_;
+  StepStatistics last_step_;
+};
+
+}  // namespace tumble

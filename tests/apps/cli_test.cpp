@@ -1,0 +1,238 @@
+// The `tumble` command line, run as a user runs it: exit codes, messages, outputs.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "apps/trajectory_writer.hpp"
+#include "engine/world.hpp"
+#include "scenes/scene_loader.hpp"
+
+extern char** environ;
+
+namespace tumble::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run_cli(const std::string& arguments) {
+  const std::string command = std::string(TUMBLE_CLI) + " " + arguments + " 2>&1";
+  Result r;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr)
+    return r;
+  std::array<char, 4096> buffer;
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    r.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("tumble_cli_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+const std::string kScenes = std::string(TUMBLE_SOURCE_DIR) + "/scenes/";
+
+TEST(Cli, HelpForEveryVerb) {
+  for (const std::string verb : {"", "run ", "validate "}) {
+    const Result r = run_cli(verb + "--help");
+    EXPECT_EQ(r.exit_code, 0) << verb;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+  EXPECT_NE(run_cli("run --help").output.find("--dt"), std::string::npos);
+}
+
+TEST(Cli, RunWritesTrajectoryAndSummary) {
+  const fs::path dir = scratch_dir("run");
+  const Result r =
+      run_cli("run " + kScenes + "free_flight.yaml -o " + dir.string() + " --steps 30");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string csv = read_file(dir / "trajectory.csv");
+  std::istringstream lines(csv);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header, app::kTrajectoryHeader);
+  int rows = 0;
+  std::string line, last;
+  while (std::getline(lines, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_EQ(rows, 31);  // the initial state and 30 steps, one body
+
+  // Numbers round-trip exactly: the last row equals an in-process run bit for bit.
+  const auto scene = std::make_shared<const Scene>(load_scene_file(kScenes + "free_flight.yaml"));
+  World world(scene);
+  for (int k = 0; k < 30; ++k)
+    world.step();
+  std::istringstream fields(last);
+  std::string field;
+  std::vector<std::string> values;
+  while (std::getline(fields, field, ','))
+    values.push_back(field);
+  ASSERT_EQ(values.size(), 15u);
+  EXPECT_EQ(values[1], "ball");
+  const BodyState& b = world.state().bodies[0];
+  EXPECT_EQ(std::strtod(values[0].c_str(), nullptr), world.state().time);
+  EXPECT_EQ(std::strtod(values[2].c_str(), nullptr), b.position.x());
+  EXPECT_EQ(std::strtod(values[4].c_str(), nullptr), b.position.z());
+  EXPECT_EQ(std::strtod(values[11].c_str(), nullptr), b.velocity.z());
+
+  const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"));
+  EXPECT_EQ(summary["settings"]["steps"], 30);
+  EXPECT_EQ(summary["bodies"], 1);
+  EXPECT_EQ(summary["stages"]["continuous"]["ran"], false);
+  EXPECT_EQ(summary["stages"]["solve"]["ran"], true);
+  char expected_hash[32];
+  std::snprintf(expected_hash, sizeof expected_hash, "%016llx",
+                static_cast<unsigned long long>(state_hash(world.state())));
+  EXPECT_EQ(summary["final_state_hash"], expected_hash);
+  EXPECT_NE(r.output.find(expected_hash), std::string::npos);
+}
+
+TEST(Cli, SameSceneTwiceGivesIdenticalBytes) {
+  const fs::path a = scratch_dir("same_a");
+  const fs::path b = scratch_dir("same_b");
+  ASSERT_EQ(run_cli("run " + kScenes + "demo.yaml -q --steps 400 -o " + a.string()).exit_code, 0);
+  ASSERT_EQ(run_cli("run " + kScenes + "demo.yaml -q --steps 400 -o " + b.string()).exit_code, 0);
+  const std::string first = read_file(a / "trajectory.csv");
+  EXPECT_GT(first.size(), 10000u);
+  EXPECT_EQ(first, read_file(b / "trajectory.csv"));
+  const auto sa = nlohmann::json::parse(read_file(a / "summary.json"));
+  const auto sb = nlohmann::json::parse(read_file(b / "summary.json"));
+  EXPECT_EQ(sa["final_state_hash"], sb["final_state_hash"]);
+}
+
+TEST(Cli, DurationAndDtOverrides) {
+  const fs::path dir = scratch_dir("overrides");
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --duration 0.5 --dt 0.01 -o " + dir.string())
+          .exit_code,
+      0);
+  const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"));
+  EXPECT_EQ(summary["settings"]["steps"], 50);
+  EXPECT_EQ(summary["settings"]["dt"], 0.01);
+}
+
+TEST(Cli, BadCommandLinesAreUserErrors) {
+  const std::string scene = kScenes + "free_flight.yaml";
+  for (const std::string& args : std::vector<std::string>{
+           "run " + scene + " --dt -1", "run " + scene + " --dt nan", "run " + scene + " --dt inf",
+           "run " + scene + " --steps 0", "run " + scene + " --steps 10 --duration 1",
+           "run " + scene + " --steps abc", "run", "frobnicate", "run " + scene + " --bogus"}) {
+    const Result r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
+    EXPECT_FALSE(r.output.empty()) << args;
+  }
+}
+
+TEST(Cli, MissingSceneIsAUserError) {
+  for (const std::string verb : {"run", "validate"}) {
+    const Result r = run_cli(verb + " /nonexistent/dir/scene.yaml");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("/nonexistent/dir/scene.yaml"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, ValidateAcceptsEveryShippedScene) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".yaml")
+      continue;
+    const Result r = run_cli("validate " + entry.path().string());
+    EXPECT_EQ(r.exit_code, 0) << entry.path() << "\n" << r.output;
+    ++count;
+  }
+  EXPECT_GE(count, 6);
+}
+
+// Every malformed fixture is rejected with exit code 1 and a message that starts with the file
+// and a line number (the loader's own tests check each message in detail).
+TEST(Cli, ValidateRejectsEveryMalformedScene) {
+  const fs::path dir = fs::path(TUMBLE_SOURCE_DIR) / "tests/data/malformed";
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml")
+      continue;
+    for (const std::string verb : {"validate ", "run -q -o /tmp/tumble_never_written "}) {
+      const Result r = run_cli(verb + entry.path().string());
+      EXPECT_EQ(r.exit_code, 1) << entry.path() << "\n" << r.output;
+      EXPECT_EQ(r.output.rfind(entry.path().string() + ":", 0), 0u) << r.output;
+    }
+    ++count;
+  }
+  EXPECT_GE(count, 20);
+}
+
+// An interrupted run leaves the previous output untouched and no file half-written.
+TEST(Cli, InterruptedRunLeavesNoPartialFile) {
+  const fs::path dir = scratch_dir("interrupt");
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  const std::string before = read_file(dir / "trajectory.csv");
+
+  const std::string cli = TUMBLE_CLI;
+  const std::string scene = kScenes + "stack10.yaml";
+  const std::string out = dir.string();
+  std::vector<std::string> args = {cli, "run", scene, "-q", "--steps", "100000000", "-o", out};
+  std::vector<char*> argv;
+  for (auto& a : args)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  ASSERT_EQ(::posix_spawn(&pid, cli.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+  // Wait until the run has started writing its temporary file, then interrupt it.
+  for (int i = 0; i < 200; ++i) {
+    bool temporary_seen = false;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      temporary_seen =
+          temporary_seen || e.path().filename().string().find(".tmp.") != std::string::npos;
+    }
+    if (temporary_seen)
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_EQ(read_file(dir / "trajectory.csv"), before);
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+}  // namespace
+}  // namespace tumble::test
