@@ -1,5 +1,6 @@
 #include "apps/run_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -39,6 +40,15 @@ int run_command(const RunOptions& options) {
   auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
   if (options.dt)
     scene->world.dt = *options.dt;
+
+  const bool wants_sweeping = scene->world.ccd == CcdMode::on ||
+                              std::any_of(scene->bodies.begin(), scene->bodies.end(),
+                                          [](const BodyDesc& b) { return b.fast && !b.is_static; });
+  if (wants_sweeping) {
+    std::cerr << "tumble run: warning: " << options.scene.string()
+              << " asks for continuous collision detection (ccd: on or a fast body), which is "
+                 "not implemented yet; no body is swept\n";
+  }
 
   std::int64_t steps = 0;
   if (options.steps) {

@@ -164,6 +164,20 @@ TEST(Cli, MissingSceneIsAUserError) {
   }
 }
 
+// Continuous collision is not implemented yet: a scene that asks for it runs, and says plainly
+// that no body is swept.
+TEST(Cli, SweepingRequestIsReportedNotIgnored) {
+  const fs::path dir = scratch_dir("ccd");
+  const fs::path scene = dir / "fast.yaml";
+  std::ofstream(scene) << "bodies:\n  - {name: bullet, shape: {type: sphere, radius: 0.01}, "
+                          "velocity: [100, 0, 0], fast: true}\n";
+  const Result r = run_cli("run " + scene.string() + " --steps 2 -o " + dir.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("not implemented yet; no body is swept"), std::string::npos) << r.output;
+  const Result quiet = run_cli("run " + kScenes + "free_flight.yaml --steps 2 -o " + dir.string());
+  EXPECT_EQ(quiet.output.find("warning"), std::string::npos) << quiet.output;
+}
+
 TEST(Cli, ValidateAcceptsEveryShippedScene) {
   int count = 0;
   for (const auto& entry : fs::directory_iterator(kScenes)) {
