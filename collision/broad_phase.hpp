@@ -11,6 +11,21 @@
 
 namespace tumble {
 
+// The structures tumble has (seed 4.1 and 4.4). `automatic` lets the engine choose from the
+// scene's statistics (docs/broad-phase.md).
+enum class BroadPhaseType : std::uint8_t {
+  automatic,
+  brute,   // all pairs, O(n^2)
+  sap,     // incremental sweep and prune on three axes
+  hash,    // spatial hash
+  bvh,     // dynamic AABB tree
+  lbvh,    // linear BVH from Morton codes, rebuilt every step
+  octree,  // loose octree
+  kdtree,  // k-d tree with SAH splits
+  grid,    // uniform grid
+  hgrid,   // hierarchical grid
+};
+
 // A candidate pair of proxy ids with a < b. Pairs sort by (a, b).
 struct ProxyPair {
   std::int32_t a = 0;

@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "collision/broad_phase.hpp"
 #include "collision/math.hpp"
 #include "collision/shape.hpp"
 
 namespace tumble {
 
 enum class SolverType : std::uint8_t { impulse, penalty };
-enum class BroadPhaseType : std::uint8_t { automatic, brute };
 enum class CcdMode : std::uint8_t { automatic, on, off };
 
 // Every setting has a unit and a default; docs/scene-format.md states them and what breaks when
