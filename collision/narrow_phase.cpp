@@ -91,14 +91,16 @@ static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
 
 using namespace detail;
 
-// collide_table[type of A][type of B]
+// collide_table[type of A][type of B]: `in_pair_frame<f>` runs f as written, `flipped<f>` runs
+// f with the arguments swapped and mirrors its answer, `ordered<f>` does one or the other for
+// two shapes of one type.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
-    //            sphere                           box                         capsule                             plane
-    /* sphere  */ {ordered<sphere_sphere>,         in_pair_frame<sphere_box>,  in_pair_frame<sphere_capsule>,      in_pair_frame<sphere_plane>},
-    /* box     */ {flipped<sphere_box>,            ordered<box_box>,           flipped<capsule_box>,               in_pair_frame<box_plane>},
-    /* capsule */ {flipped<sphere_capsule>,        in_pair_frame<capsule_box>, ordered<capsule_capsule>,           in_pair_frame<capsule_plane>},
-    /* plane   */ {flipped<sphere_plane>,          flipped<box_plane>,         flipped<capsule_plane>,             no_contact},
+  //              sphere                    box                         capsule                       plane
+  /* sphere  */ {{ordered<sphere_sphere>,  in_pair_frame<sphere_box>,  in_pair_frame<sphere_capsule>, in_pair_frame<sphere_plane>}},
+  /* box     */ {{flipped<sphere_box>,     ordered<box_box>,           flipped<capsule_box>,          in_pair_frame<box_plane>}},
+  /* capsule */ {{flipped<sphere_capsule>, in_pair_frame<capsule_box>, ordered<capsule_capsule>,      in_pair_frame<capsule_plane>}},
+  /* plane   */ {{flipped<sphere_plane>,   flipped<box_plane>,         flipped<capsule_plane>,        no_contact}},
 }};
 // clang-format on
 

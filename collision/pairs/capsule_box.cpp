@@ -16,7 +16,9 @@
 // set the depth in the rounded set is the depth in the core set plus the radius with the same
 // direction. So the minimum translation is a separating-axis test of segment against box (its 3
 // face normals and the 3 cross products of the segment with the box edges; Gottschalk, Lin and
-// Manocha, "OBBTree", SIGGRAPH 1996; Ericson 5.2.1) plus the radius.
+// Manocha, "OBBTree", SIGGRAPH 1996; Ericson 5.2.1) plus the radius. Unlike box-box, the axis
+// is chosen exactly (up to rounding): this branch only runs for penetrations deeper than the
+// radius, where the true minimum translation matters more than feature stability.
 //
 // Points: when the normal is a box face normal, the core is clipped to the prism over that face
 // and both ends of the clipped core become points (depth measured along the normal), so a capsule
