@@ -12,7 +12,8 @@ using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
 using Quat = Eigen::Quaternion<Real>;
 
-// A rigid transform: p_world = rotation * p_local + translation.
+// A rigid transform: p_world = rotation * p_local + translation. Beware `Transform{t, {}}`:
+// Eigen's default quaternion constructor leaves it uninitialised; write Quat::Identity().
 struct Transform {
   Vec3 translation = Vec3::Zero();
   Quat rotation = Quat::Identity();
