@@ -4,14 +4,13 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "collision/broad_phase_factory.hpp"
+
 namespace tumble::app {
 namespace {
 
 const char* solver_name(SolverType s) {
   return s == SolverType::impulse ? "impulse" : "penalty";
-}
-const char* broad_phase_name(BroadPhaseType b) {
-  return b == BroadPhaseType::automatic ? "auto" : "brute";
 }
 const char* ccd_name(CcdMode c) {
   switch (c) {
@@ -39,7 +38,10 @@ std::string hash_hex(std::uint64_t hash) {
 
 RunSummary::RunSummary(const Scene& scene, const World& world,
                        const std::filesystem::path& scene_path, std::int64_t steps)
-    : scene_(scene), scene_path_(scene_path), steps_(steps) {
+    : scene_(scene),
+      scene_path_(scene_path),
+      steps_(steps),
+      broad_phase_used_(world.broad_phase_type()) {
   initial_kinetic_ = world.kinetic_energy();
   initial_potential_ = world.potential_energy();
 }
@@ -72,8 +74,8 @@ std::string RunSummary::to_json() const {
                    {"solver", solver_name(w.solver)},
                    {"iterations", w.iterations},
                    {"relax_iterations", w.relax_iterations},
-                   {"broadphase", broad_phase_name(w.broadphase)},
-                   {"broadphase_used", "brute"},
+                   {"broadphase", std::string(broad_phase_name(w.broadphase))},
+                   {"broadphase_used", std::string(broad_phase_name(broad_phase_used_))},
                    {"ccd", ccd_name(w.ccd)},
                    {"gravity", vec(w.gravity)},
                    {"contact_margin", w.contact_margin},

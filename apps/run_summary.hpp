@@ -24,6 +24,7 @@ class RunSummary {
   const Scene& scene_;
   std::filesystem::path scene_path_;
   std::int64_t steps_ = 0;
+  BroadPhaseType broad_phase_used_;
   StepStatistics totals_;
   std::int64_t max_contact_points_ = 0;
   Real initial_kinetic_ = 0;

@@ -3,6 +3,14 @@
 #include <array>
 
 #include "collision/brute_force_broad_phase.hpp"
+#include "collision/dynamic_tree_broad_phase.hpp"
+#include "collision/hierarchical_grid_broad_phase.hpp"
+#include "collision/kd_tree_broad_phase.hpp"
+#include "collision/linear_bvh_broad_phase.hpp"
+#include "collision/loose_octree_broad_phase.hpp"
+#include "collision/spatial_hash_broad_phase.hpp"
+#include "collision/sweep_and_prune_broad_phase.hpp"
+#include "collision/uniform_grid_broad_phase.hpp"
 
 namespace tumble {
 namespace {
@@ -25,8 +33,10 @@ constexpr std::array<Entry, 10> kEntries{{
     {BroadPhaseType::hgrid, "hgrid"},
 }};
 
-// The structures that exist so far; the others arrive with the broad-phase issue.
-constexpr std::array<BroadPhaseType, 1> kConcrete{BroadPhaseType::brute};
+constexpr std::array<BroadPhaseType, 9> kConcrete{
+    BroadPhaseType::brute,  BroadPhaseType::sap,  BroadPhaseType::hash,
+    BroadPhaseType::bvh,    BroadPhaseType::lbvh, BroadPhaseType::octree,
+    BroadPhaseType::kdtree, BroadPhaseType::grid, BroadPhaseType::hgrid};
 
 }  // namespace
 
@@ -52,9 +62,27 @@ std::span<const BroadPhaseType> concrete_broad_phases() {
 
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseType type) {
   switch (type) {
-    default:
+    case BroadPhaseType::automatic:
+    case BroadPhaseType::brute:
       return std::make_unique<BruteForceBroadPhase>();
+    case BroadPhaseType::sap:
+      return std::make_unique<SweepAndPruneBroadPhase>();
+    case BroadPhaseType::hash:
+      return std::make_unique<SpatialHashBroadPhase>();
+    case BroadPhaseType::bvh:
+      return std::make_unique<DynamicTreeBroadPhase>();
+    case BroadPhaseType::lbvh:
+      return std::make_unique<LinearBvhBroadPhase>();
+    case BroadPhaseType::octree:
+      return std::make_unique<LooseOctreeBroadPhase>();
+    case BroadPhaseType::kdtree:
+      return std::make_unique<KdTreeBroadPhase>();
+    case BroadPhaseType::grid:
+      return std::make_unique<UniformGridBroadPhase>();
+    case BroadPhaseType::hgrid:
+      return std::make_unique<HierarchicalGridBroadPhase>();
   }
+  return std::make_unique<BruteForceBroadPhase>();
 }
 
 }  // namespace tumble

@@ -3,8 +3,9 @@
 #include <chrono>
 #include <cmath>
 
-#include "collision/brute_force_broad_phase.hpp"
+#include "collision/broad_phase_factory.hpp"
 #include "collision/narrow_phase.hpp"
+#include "engine/broad_phase_choice.hpp"
 
 namespace tumble {
 namespace {
@@ -32,11 +33,6 @@ Transform pose_of(const BodyState& b) {
   return {b.position, b.orientation};
 }
 
-std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseType type) {
-  (void)type;  // only brute force exists so far; the loader refuses the other names
-  return std::make_unique<BruteForceBroadPhase>();
-}
-
 }  // namespace
 
 World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
@@ -50,7 +46,7 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   carries_.resize(n);
   speculative_margin_.resize(n);
   shape_poses_.resize(n);
-  broad_phase_ = make_broad_phase(scene_->world.broadphase);
+  broad_phase_type_ = choose_broad_phase(scene_->world.broadphase, *scene_);
   set_state(initial_state(*scene_));
 }
 
@@ -60,7 +56,7 @@ void World::set_state(const State& state) {
 }
 
 void World::rebuild_broad_phase() {
-  broad_phase_ = make_broad_phase(scene_->world.broadphase);
+  broad_phase_ = make_broad_phase(broad_phase_type_);
   for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {
     const BodyDesc& d = scene_->bodies[i];
     broad_phase_->insert(static_cast<std::int32_t>(i),

@@ -21,6 +21,8 @@ class World {
   const Scene& scene() const { return *scene_; }
   const State& state() const { return state_; }
   const BodyMass& mass(int body) const { return masses_[body]; }
+  // The broad-phase structure in use (the scene's choice, or the one `auto` picked).
+  BroadPhaseType broad_phase_type() const { return broad_phase_type_; }
 
   // Replaces the state (reset, restore, replay). The broad phase is rebuilt from the new poses.
   void set_state(const State& state);
@@ -54,6 +56,7 @@ class World {
   std::vector<BodyMass> masses_;
   std::vector<Real> bounding_radii_;
   std::vector<Transform> shape_poses_;  // scratch, current pose per body
+  BroadPhaseType broad_phase_type_ = BroadPhaseType::brute;
   std::unique_ptr<BroadPhase> broad_phase_;
 
   // Scratch kept across steps so that a step does not allocate once capacities settle.

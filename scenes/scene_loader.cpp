@@ -27,6 +27,8 @@
 #include <utility>
 #include <vector>
 
+#include "collision/broad_phase_factory.hpp"
+
 namespace tumble {
 
 namespace {
@@ -156,9 +158,6 @@ constexpr std::array<std::string_view, 1> kPlaneKeys{"type"};
 // Names design.md reserves for later; they get "not implemented yet" rather than "unknown".
 constexpr std::array<std::string_view, 5> kPlannedShapes{"cylinder", "hull", "mesh", "sdf",
                                                          "compound"};
-constexpr std::array<std::string_view, 8> kPlannedBroadPhases{
-    "sap",    "hash",   "bvh",  "lbvh",  //
-    "octree", "kdtree", "grid", "hgrid"};
 
 // ---------------------------------------------------------------------------------------------
 // The document tree. yaml-cpp's parser reports events and the tree is built here instead of with
@@ -759,18 +758,16 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
   }
   if (const Entry* x = f.find("broadphase")) {
     const std::string s = read_word(*x, path("broadphase"), "a broad phase name");
-    if (s == "auto") {
-      w.broadphase = BroadPhaseType::automatic;
-    } else if (s == "brute") {
-      w.broadphase = BroadPhaseType::brute;
-    } else if (contains(kPlannedBroadPhases, s)) {
-      fail(x->mark(), path("broadphase"),
-           "broadphase '" + s + "' is not implemented yet; available: auto, brute");
+    if (const auto type = parse_broad_phase(s)) {
+      w.broadphase = *type;
     } else {
       fail(x->mark(), path("broadphase"),
-           "expected one of: auto, brute, got " + describe(x->value));
+           "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, kdtree, grid, hgrid, "
+           "got " +
+               describe(x->value));
     }
   }
+
   if (const Entry* x = f.find("ccd")) {
     // Read as a word: YAML 1.1 would turn the bare on/off into booleans, but the text is kept.
     const std::string s = read_word(*x, path("ccd"), "one of: auto, on, off");

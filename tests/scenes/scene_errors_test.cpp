@@ -98,10 +98,9 @@ constexpr Malformed kCases[] = {
     {"unimplemented_solver.yaml", 3, "world.solver",
      "solver 'penalty' is not implemented yet; available: impulse"},
     {"unknown_solver.yaml", 3, "world.solver", "expected one of: impulse, got pgs"},
-    {"unimplemented_broadphase.yaml", 3, "world.broadphase",
-     "broadphase 'sap' is not implemented yet; available: auto, brute"},
     {"unknown_broadphase.yaml", 3, "world.broadphase",
-     "expected one of: auto, brute, got quadtree"},
+     "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, kdtree, grid, hgrid, got "
+     "quadtree"},
     {"unknown_ccd_mode.yaml", 3, "world.ccd", "expected one of: auto, on, off"},
     {"string_for_number.yaml", 3, "world.dt", "expected a time step in seconds"},
     {"quoted_number.yaml", 5, "bodies[0].mass", "got the quoted string \"2.0\""},

@@ -1,0 +1,835 @@
+#include "collision/loose_octree_broad_phase.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace tumble {
+namespace {
+
+// A coordinate beyond this is treated as infinite: growing the world to contain it would take
+// ~100 doublings and leave no precision for the cells where the bodies are.
+constexpr Real kUnboundedCoordinate = 1e30;
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  return (inner.min.array() >= outer.min.array()).all() &&
+         (inner.max.array() <= outer.max.array()).all();
+}
+
+Vec3 centre_of(const Aabb& b) {
+  return Real(0.5) * (b.min + b.max);
+}
+
+// Aabb::overlaps without short-circuit branches: in the inner loops the outcome is close to a
+// coin flip per comparison, and six well-predicted-or-not branches cost more than six compares.
+inline bool touch(const Aabb& a, const Aabb& b) {
+  return (a.min.x() <= b.max.x()) & (b.min.x() <= a.max.x()) & (a.min.y() <= b.max.y()) &
+         (b.min.y() <= a.max.y()) & (a.min.z() <= b.max.z()) & (b.min.z() <= a.max.z());
+}
+
+int octant_of(const Vec3& node_centre, const Vec3& p) {
+  return (p.x() >= node_centre.x() ? 1 : 0) | (p.y() >= node_centre.y() ? 2 : 0) |
+         (p.z() >= node_centre.z() ? 4 : 0);
+}
+
+// A node's own list longer than this is sorted by min along its longest axis, so the loops over
+// it can stop at the first box that starts beyond the query's end (sweep and prune within the
+// list). Shorter lists are scanned whole: sorting them would cost more than it saves.
+constexpr std::int32_t kSweepThreshold = 12;
+
+// Sorts boxes[begin, end) by min along the longest axis of `bound` if the range is long, and
+// returns that axis; -1 (unsorted, scan everything) otherwise.
+template <class PackedBoxes>
+std::int8_t sort_for_sweep(PackedBoxes& boxes, std::int32_t begin, std::int32_t end,
+                           const Aabb& bound) {
+  if (end - begin <= kSweepThreshold)
+    return -1;
+  int axis = 0;
+  (bound.max - bound.min).maxCoeff(&axis);
+  std::sort(boxes.begin() + begin, boxes.begin() + end,
+            [axis](const auto& x, const auto& y) { return x.box.min[axis] < y.box.min[axis]; });
+  return static_cast<std::int8_t>(axis);
+}
+
+// The bound a loop over a node's own list may stop at: the query's max along the list's sort
+// axis, or +inf for an unsorted list.
+inline Real sweep_limit(const Aabb& query, int axis) {
+  return axis >= 0 ? query.max[axis] : std::numeric_limits<Real>::infinity();
+}
+
+std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
+  if (a > b)
+    std::swap(a, b);
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+// LSD radix sort of the 64-bit pair keys (a << 32 | b) on 11-bit digits, covering only the bits
+// that are in use in each half: ids below 2048 take 2 passes, below 4 million 4. Small inputs go
+// to std::sort.
+void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
+  const std::size_t n = keys.size();
+  if (n < 1024) {
+    std::sort(keys.begin(), keys.end());
+    return;
+  }
+  constexpr int kDigitBits = 11;
+  constexpr std::uint64_t kMask = (1u << kDigitBits) - 1;
+  std::uint64_t used = 0;
+  for (const std::uint64_t k : keys)
+    used |= k;
+  int shifts[6];
+  int passes = 0;
+  for (const int base : {0, 32}) {
+    const int width = std::bit_width(static_cast<std::uint32_t>(used >> base));
+    for (int s = 0; s < width; s += kDigitBits)
+      shifts[passes++] = base + s;
+  }
+  std::uint32_t hist[6][1 << kDigitBits] = {};
+  for (const std::uint64_t k : keys) {
+    for (int p = 0; p < passes; ++p)
+      ++hist[p][(k >> shifts[p]) & kMask];
+  }
+  scratch.resize(n);
+  for (int p = 0; p < passes; ++p) {
+    std::uint32_t* h = hist[p];
+    std::uint32_t sum = 0;
+    for (int i = 0; i < (1 << kDigitBits); ++i) {
+      const std::uint32_t c = h[i];
+      h[i] = sum;
+      sum += c;
+    }
+    for (const std::uint64_t k : keys)
+      scratch[h[(k >> shifts[p]) & kMask]++] = k;
+    keys.swap(scratch);
+  }
+}
+
+}  // namespace
+
+LooseOctreeBroadPhase::LooseOctreeBroadPhase(Real looseness, int max_node_objects, int max_depth)
+    : k_(std::clamp(looseness, Real(0.5), Real(1))),
+      n_max_(std::max(max_node_objects, 0)),
+      d_max_(std::clamp(max_depth, 0, 60)) {
+  assert(looseness >= 0.5 && looseness <= 1.0);
+}
+
+bool LooseOctreeBroadPhase::is_unbounded(const Aabb& box) {
+  // Written so that NaN counts as unbounded too (it then overlaps nothing, like brute force).
+  return !((box.min.array() >= -kUnboundedCoordinate).all() &&
+           (box.max.array() <= kUnboundedCoordinate).all());
+}
+
+Real LooseOctreeBroadPhase::max_half_extent(const Aabb& box) const {
+  return Real(0.5) * (box.max - box.min).maxCoeff();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nodes
+
+std::int32_t LooseOctreeBroadPhase::new_node() {
+  if (!free_nodes_.empty()) {
+    const std::int32_t n = free_nodes_.back();
+    free_nodes_.pop_back();
+    nodes_[n] = Node{};
+    return n;
+  }
+  nodes_.emplace_back();
+  return static_cast<std::int32_t>(nodes_.size() - 1);
+}
+
+void LooseOctreeBroadPhase::free_node(std::int32_t n) {
+  assert(nodes_[n].count == 0);
+  free_nodes_.push_back(n);
+}
+
+void LooseOctreeBroadPhase::child_geometry(const Node& parent, int octant, Vec3& centre,
+                                           Aabb& loose) const {
+  const Real h = parent.half * Real(0.5);  // exact: halving a double
+  for (int a = 0; a < 3; ++a)
+    centre[a] = parent.centre[a] + (((octant >> a) & 1) ? h : -h);
+  const Real reach = h * (Real(1) + k_);
+  loose.min = centre.array() - reach;
+  loose.max = centre.array() + reach;
+  // In exact arithmetic the child's loose bound lies inside the parent's with a margin of k h / 2;
+  // clamping makes the nesting hold under rounding too, so pruning a subtree by its root's
+  // bound is always safe. Boxes are checked against the stored (clamped) bound when placed.
+  loose.min = loose.min.cwiseMax(parent.loose.min);
+  loose.max = loose.max.cwiseMin(parent.loose.max);
+}
+
+std::int32_t LooseOctreeBroadPhase::make_child(std::int32_t parent, int octant) {
+  Vec3 centre;
+  Aabb loose;
+  child_geometry(nodes_[parent], octant, centre, loose);
+  const std::int32_t c = new_node();  // may reallocate nodes_
+  Node& child = nodes_[c];
+  Node& p = nodes_[parent];
+  child.centre = centre;
+  child.loose = loose;
+  child.half = p.half * Real(0.5);
+  child.parent = parent;
+  child.depth = p.depth + 1;
+  p.child[octant] = c;
+  return c;
+}
+
+// The first finite box sets the world: a root centred on it, just big enough to hold it. The
+// world then grows by doubling (grow_to_contain) and shrinks by dropping an idle root
+// (collapse_root), so the initial size only decides how the cells are aligned.
+void LooseOctreeBroadPhase::set_root_for(const Aabb& box) {
+  const Vec3 c = centre_of(box);
+  const Real floor_half = std::max(Real(1e-9), Real(1e-9) * c.cwiseAbs().maxCoeff());
+  root_ = new_node();
+  Node& r = nodes_[root_];
+  r.centre = c;
+  r.half = std::max(max_half_extent(box) / k_, floor_half);
+  const Real reach = r.half * (Real(1) + k_);
+  r.loose = {c.array() - reach, c.array() + reach};
+}
+
+// Does the world hold the box? Its centre must be in the root's cell (not just its box in the
+// root's loose bound): placement follows the centre, and a centre outside the root cell would
+// leave the box stuck at the root, too near the world's edge for any child's loose bound.
+bool LooseOctreeBroadPhase::world_holds(const Aabb& box) const {
+  const Node& r = nodes_[root_];
+  const Vec3 c = centre_of(box);
+  return contains(r.loose, box) && ((c - r.centre).cwiseAbs().array() <= r.half).all();
+}
+
+// Re-rooting (world growth): the new root has twice the side and the old root is the octant of
+// it facing away from the box, so every existing cell, loose bound and proxy stays where it is;
+// only the depths shift by one. Repeats until the world holds the box.
+void LooseOctreeBroadPhase::grow_to_contain(const Aabb& box) {
+  const Vec3 target = centre_of(box);
+  while (!world_holds(box)) {
+    const std::int32_t old = root_;
+    const std::int32_t r = new_node();
+    Node& o = nodes_[old];
+    Node& n = nodes_[r];
+    int octant = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (target[a] >= o.centre[a]) {
+        n.centre[a] = o.centre[a] + o.half;  // old root is the lower half on this axis
+      } else {
+        n.centre[a] = o.centre[a] - o.half;
+        octant |= 1 << a;
+      }
+    }
+    n.half = o.half * 2;
+    const Real reach = n.half * (Real(1) + k_);
+    n.loose = {n.centre.array() - reach, n.centre.array() + reach};
+    n.loose.grow(o.loose);  // nesting under rounding
+    n.split = true;         // the old root's proxies are below it, as placement requires
+    n.child[octant] = old;
+    o.parent = r;
+    root_ = r;
+    // Depths shift by one (rare: only when the world grows).
+    stack_.clear();
+    stack_.push_back(old);
+    while (!stack_.empty()) {
+      const std::int32_t m = stack_.back();
+      stack_.pop_back();
+      ++nodes_[m].depth;
+      for (const std::int32_t c : nodes_[m].child) {
+        if (c >= 0)
+          stack_.push_back(c);
+      }
+    }
+  }
+}
+
+// The world shrinks back: a root that holds no proxy and has a single child is dropped.
+void LooseOctreeBroadPhase::collapse_root() {
+  while (true) {
+    const Node& r = nodes_[root_];
+    if (r.count != 0)
+      return;
+    std::int32_t only = -1;
+    int children = 0;
+    for (const std::int32_t c : r.child) {
+      if (c >= 0) {
+        only = c;
+        ++children;
+      }
+    }
+    if (children != 1)
+      return;
+    free_node(root_);
+    root_ = only;
+    nodes_[only].parent = -1;
+    stack_.clear();
+    stack_.push_back(only);
+    while (!stack_.empty()) {
+      const std::int32_t m = stack_.back();
+      stack_.pop_back();
+      --nodes_[m].depth;
+      for (const std::int32_t c : nodes_[m].child) {
+        if (c >= 0)
+          stack_.push_back(c);
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Proxies in nodes
+
+void LooseOctreeBroadPhase::link(std::int32_t slot, std::int32_t node) {
+  Proxy& p = proxies_[slot];
+  Node& n = nodes_[node];
+  p.node = node;
+  p.prev = -1;
+  p.next = n.head;
+  if (n.head >= 0)
+    proxies_[n.head].prev = slot;
+  n.head = slot;
+  ++n.count;
+  n.static_count += p.is_static ? 1 : 0;
+}
+
+void LooseOctreeBroadPhase::unlink(std::int32_t slot) {
+  Proxy& p = proxies_[slot];
+  Node& n = nodes_[p.node];
+  if (p.prev >= 0)
+    proxies_[p.prev].next = p.next;
+  else
+    n.head = p.next;
+  if (p.next >= 0)
+    proxies_[p.next].prev = p.prev;
+  --n.count;
+  n.static_count -= p.is_static ? 1 : 0;
+  p.node = -1;
+  p.next = p.prev = -1;
+}
+
+// Ulrich's placement: from the root, follow the box centre's octant while the node is split,
+// the depth allows, the box is small enough for the child level (r <= k h_child, which makes it
+// fit the child's loose bound wherever its centre is in the child's cell) and the child's stored
+// loose bound really holds it (this last check only fails on rounding at a world edge).
+void LooseOctreeBroadPhase::place(std::int32_t slot) {
+  const Aabb box = proxies_[slot].box;
+  if (!world_holds(box))
+    grow_to_contain(box);
+  const Real r = max_half_extent(box);
+  const Vec3 c = centre_of(box);
+  std::int32_t n = root_;
+  while (true) {
+    const Node& node = nodes_[n];
+    if (!node.split || node.depth >= d_max_ || r > k_ * (node.half * Real(0.5)))
+      break;
+    const int octant = octant_of(node.centre, c);
+    std::int32_t ch = node.child[octant];
+    if (ch < 0) {
+      Vec3 cc;
+      Aabb cl;
+      child_geometry(node, octant, cc, cl);
+      if (!contains(cl, box))
+        break;
+      ch = make_child(n, octant);
+    } else if (!contains(nodes_[ch].loose, box)) {
+      break;
+    }
+    n = ch;
+  }
+  link(slot, n);
+  const Node& node = nodes_[n];
+  if (!node.split && node.count > n_max_ && node.depth < d_max_)
+    split_node(n);
+}
+
+// Seed 4.4.2 subdivision: more than n_max proxies and depth below d_max. Proxies small enough for
+// the child level move to the child holding their centre; larger ones stay. Children that end up
+// crowded split in turn.
+void LooseOctreeBroadPhase::split_node(std::int32_t n) {
+  nodes_[n].split = true;
+  const Real child_slack = k_ * (nodes_[n].half * Real(0.5));
+  std::int32_t s = nodes_[n].head;
+  while (s >= 0) {
+    const std::int32_t next = proxies_[s].next;
+    const Aabb& box = proxies_[s].box;
+    if (max_half_extent(box) <= child_slack) {
+      const int octant = octant_of(nodes_[n].centre, centre_of(box));
+      std::int32_t ch = nodes_[n].child[octant];
+      if (ch < 0) {
+        Vec3 cc;
+        Aabb cl;
+        child_geometry(nodes_[n], octant, cc, cl);
+        if (contains(cl, box))
+          ch = make_child(n, octant);
+      } else if (!contains(nodes_[ch].loose, box)) {
+        ch = -1;
+      }
+      if (ch >= 0) {
+        unlink(s);
+        link(s, ch);
+      }
+    }
+    s = next;
+  }
+  for (int o = 0; o < 8; ++o) {
+    const std::int32_t ch = nodes_[n].child[o];
+    if (ch >= 0 && !nodes_[ch].split && nodes_[ch].count > n_max_ && nodes_[ch].depth < d_max_)
+      split_node(ch);
+  }
+}
+
+// Post-order housekeeping before each find_pairs: free empty subtrees and merge a split node
+// back when its whole subtree holds at most n_max / 2 proxies. Returns the subtree's count.
+std::int32_t LooseOctreeBroadPhase::maintain(std::int32_t n) {
+  std::int32_t total = nodes_[n].count;
+  for (int o = 0; o < 8; ++o) {
+    const std::int32_t ch = nodes_[n].child[o];
+    if (ch < 0)
+      continue;
+    const std::int32_t t = maintain(ch);
+    if (t == 0) {
+      free_node(ch);  // its own empty children were freed by maintain(ch)
+      nodes_[n].child[o] = -1;
+    } else {
+      total += t;
+    }
+  }
+  if (nodes_[n].split && total <= n_max_ / 2) {
+    // Merge: every box of the subtree is inside the descendants' loose bounds, hence inside this
+    // node's, so the proxies can simply be relinked here.
+    stack_.clear();
+    for (int o = 0; o < 8; ++o) {
+      if (nodes_[n].child[o] >= 0)
+        stack_.push_back(nodes_[n].child[o]);
+      nodes_[n].child[o] = -1;
+    }
+    while (!stack_.empty()) {
+      const std::int32_t m = stack_.back();
+      stack_.pop_back();
+      while (nodes_[m].head >= 0) {
+        const std::int32_t s = nodes_[m].head;
+        unlink(s);
+        link(s, n);
+      }
+      for (const std::int32_t c : nodes_[m].child) {
+        if (c >= 0)
+          stack_.push_back(c);
+      }
+      free_node(m);
+    }
+    nodes_[n].split = false;
+  }
+  return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+// BroadPhase interface
+
+void LooseOctreeBroadPhase::insert(std::int32_t id, const Aabb& box, bool is_static) {
+  assert(id >= 0);
+  if (static_cast<std::size_t>(id) >= slot_of_id_.size())
+    slot_of_id_.resize(static_cast<std::size_t>(id) + 1, -1);
+  if (slot_of_id_[id] >= 0)
+    remove(id);
+  std::int32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<std::int32_t>(proxies_.size());
+    proxies_.emplace_back();
+  }
+  slot_of_id_[id] = slot;
+  Proxy& p = proxies_[slot];
+  p = Proxy{};
+  p.box = box;
+  p.id = id;
+  p.is_static = is_static;
+  p.alive = true;
+  if (is_unbounded(box)) {
+    unbounded_.push_back(slot);
+    return;
+  }
+  if (root_ < 0)
+    set_root_for(box);
+  place(slot);
+}
+
+void LooseOctreeBroadPhase::remove(std::int32_t id) {
+  if (id < 0 || static_cast<std::size_t>(id) >= slot_of_id_.size() || slot_of_id_[id] < 0)
+    return;
+  const std::int32_t slot = slot_of_id_[id];
+  Proxy& p = proxies_[slot];
+  if (p.node >= 0)
+    unlink(slot);
+  else
+    unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), slot));
+  p.alive = false;
+  slot_of_id_[id] = -1;
+  free_slots_.push_back(slot);
+}
+
+void LooseOctreeBroadPhase::update(std::int32_t id, const Aabb& box) {
+  const std::int32_t slot = slot_of_id_[id];
+  Proxy& p = proxies_[slot];
+  const bool unbounded = is_unbounded(box);
+  p.box = box;
+  if (p.node < 0) {  // was unbounded
+    if (unbounded)
+      return;
+    unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), slot));
+    if (root_ < 0)
+      set_root_for(box);
+    place(slot);
+    return;
+  }
+  if (unbounded) {
+    unlink(slot);
+    unbounded_.push_back(slot);
+    return;
+  }
+  // Fast path for coherent motion: the box still fits its node's loose bound and is not small
+  // enough to go deeper. This is the point of looseness: a box can drift by up to k h - r
+  // before it has to move.
+  const Node& n = nodes_[p.node];
+  if (contains(n.loose, box) &&
+      (!n.split || n.depth >= d_max_ || max_half_extent(box) > k_ * (n.half * Real(0.5))))
+    return;
+  unlink(slot);
+  place(slot);
+}
+
+// Writes the live tree out in preorder (see the header comment). The proxies are scattered by
+// one sequential pass over the slot array into ranges sized from the nodes' counts, which is
+// much cheaper than chasing each node's linked list through memory.
+void LooseOctreeBroadPhase::pack() {
+  dyn_nodes_.clear();
+  st_nodes_.clear();
+  pack_parent_.clear();
+  if (root_ < 0) {
+    dyn_.clear();
+    st_.clear();
+    return;
+  }
+  stack_.clear();
+  stack_.push_back(root_);
+  while (!stack_.empty()) {
+    const std::int32_t n = stack_.back();
+    stack_.pop_back();
+    Node& node = nodes_[n];
+    const auto j = static_cast<std::int32_t>(dyn_nodes_.size());
+    node.pre = j;
+    pack_parent_.push_back(n == root_ ? -1 : nodes_[node.parent].pre);
+    PackedNode d, st;
+    d.skip = st.skip = j + 1;
+    d.end = node.count - node.static_count;  // own counts for now
+    st.end = node.static_count;
+    dyn_nodes_.push_back(d);
+    st_nodes_.push_back(st);
+    for (int o = 7; o >= 0; --o) {
+      if (node.child[o] >= 0)
+        stack_.push_back(node.child[o]);
+    }
+  }
+  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
+  std::int32_t dyn_total = 0, st_total = 0;
+  for (std::int32_t j = 0; j < count; ++j) {
+    PackedNode& d = dyn_nodes_[j];
+    PackedNode& st = st_nodes_[j];
+    d.begin = dyn_total;
+    dyn_total += d.end;
+    d.end = d.begin;  // scatter cursor
+    st.begin = st_total;
+    st_total += st.end;
+    st.end = st.begin;
+  }
+  dyn_axis_.resize(static_cast<std::size_t>(count));
+  st_axis_.resize(static_cast<std::size_t>(count));
+  dyn_own_.resize(static_cast<std::size_t>(count));
+  st_own_.resize(static_cast<std::size_t>(count));
+  dyn_.resize(static_cast<std::size_t>(dyn_total));
+  st_.resize(static_cast<std::size_t>(st_total));
+  for (const Proxy& p : proxies_) {
+    if (!p.alive || p.node < 0)
+      continue;
+    const std::int32_t j = nodes_[p.node].pre;
+    if (p.is_static)
+      st_[st_nodes_[j].end++] = {p.box, p.id};
+    else
+      dyn_[dyn_nodes_[j].end++] = {p.box, p.id};
+  }
+  for (std::int32_t j = 0; j < count; ++j) {
+    PackedNode& d = dyn_nodes_[j];
+    PackedNode& st = st_nodes_[j];
+    d.sub_end = d.end;
+    st.sub_end = st.end;
+    for (std::int32_t i = d.begin; i < d.end; ++i)
+      d.bound.grow(dyn_[i].box);
+    for (std::int32_t i = st.begin; i < st.end; ++i)
+      st.bound.grow(st_[i].box);
+    dyn_own_[j] = d.bound;
+    st_own_[j] = st.bound;
+    dyn_axis_[j] = sort_for_sweep(dyn_, d.begin, d.end, d.bound);
+    st_axis_[j] = sort_for_sweep(st_, st.begin, st.end, st.bound);
+  }
+  // Children follow their parent in preorder, so one backward sweep completes every subtree.
+  for (std::int32_t j = count - 1; j > 0; --j) {
+    const std::int32_t p = pack_parent_[j];
+    for (std::vector<PackedNode>* v : {&dyn_nodes_, &st_nodes_}) {
+      const PackedNode& c = (*v)[j];
+      PackedNode& q = (*v)[p];
+      q.skip = std::max(q.skip, c.skip);
+      q.sub_end = std::max(q.sub_end, c.sub_end);
+      q.bound.grow(c.bound);
+    }
+  }
+}
+
+// All pairs of the dynamic proxies of packed node n with the rest, each pair once (header).
+void LooseOctreeBroadPhase::search_node(std::int32_t n) {
+  const std::int32_t db = dyn_nodes_[n].begin;
+  const std::int32_t de = dyn_nodes_[n].end;
+  Aabb u;
+  for (std::int32_t i = db; i < de; ++i)
+    u.grow(dyn_[i].box);
+  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
+  // Dynamic partners come later in preorder: every node before n is an ancestor of n or in a
+  // subtree that ends before n, so its dynamic range lies before db. Walk forward from n.
+  std::int32_t j = n;
+  while (j < count) {
+    const PackedNode& m = dyn_nodes_[j];
+    ++node_visits_;
+    if (m.sub_end <= std::max(m.begin, db + 1) || !touch(m.bound, u)) {
+      j = m.skip;
+      continue;
+    }
+    const Aabb& own = dyn_own_[j];
+    const int sort_axis = dyn_axis_[j];
+    const int axis = std::max(sort_axis, 0);
+    for (std::int32_t i = db; i < de; ++i) {
+      const std::int32_t kb = std::max(m.begin, i + 1);
+      if (kb >= m.end)
+        break;  // kb only grows with i
+      const Aabb& a = dyn_[i].box;
+      if (!touch(a, own))
+        continue;
+      // The range is sorted by min along `axis` when long: stop at the first box starting
+      // beyond a's end (a sweep over the node's own list).
+      const Real limit = sweep_limit(a, sort_axis);
+      std::int32_t k = kb;
+      for (; k < m.end && dyn_[k].box.min[axis] <= limit; ++k) {
+        if (touch(a, dyn_[k].box))
+          keys_.push_back(pair_key(dyn_[i].id, dyn_[k].id));
+      }
+      box_tests_ += k - kb;
+    }
+    ++j;
+  }
+  // Static partners can be anywhere: walk the static hierarchy from the root.
+  if (st_.empty())
+    return;
+  j = 0;
+  while (j < count) {
+    const PackedNode& m = st_nodes_[j];
+    ++node_visits_;
+    if (m.sub_end == m.begin || !touch(m.bound, u)) {
+      j = m.skip;
+      continue;
+    }
+    if (m.end > m.begin && touch(st_own_[j], u)) {
+      const Aabb& own = st_own_[j];
+      const int sort_axis = st_axis_[j];
+      const int axis = std::max(sort_axis, 0);
+      for (std::int32_t i = db; i < de; ++i) {
+        const Aabb& a = dyn_[i].box;
+        if (!touch(a, own))
+          continue;
+        const Real limit = sweep_limit(a, sort_axis);
+        std::int32_t k = m.begin;
+        for (; k < m.end && st_[k].box.min[axis] <= limit; ++k) {
+          if (touch(a, st_[k].box))
+            keys_.push_back(pair_key(dyn_[i].id, st_[k].id));
+        }
+        box_tests_ += k - m.begin;
+      }
+    }
+    ++j;
+  }
+}
+
+// An unbounded proxy against every bounded one (bounded proxies never look at the unbounded
+// list, so each such pair is seen once, here). Comparisons with infinities are well defined.
+void LooseOctreeBroadPhase::search_unbounded(std::int32_t slot) {
+  const Proxy& x = proxies_[slot];
+  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
+  for (int kind = 0; kind < 2; ++kind) {
+    if (kind == 1 && x.is_static)
+      break;  // static-static pairs are never reported
+    const std::vector<PackedNode>& tree = kind == 0 ? dyn_nodes_ : st_nodes_;
+    const std::vector<PackedBox>& boxes = kind == 0 ? dyn_ : st_;
+    const std::vector<Aabb>& own = kind == 0 ? dyn_own_ : st_own_;
+    const std::vector<std::int8_t>& axes = kind == 0 ? dyn_axis_ : st_axis_;
+    std::int32_t j = 0;
+    while (j < count) {
+      const PackedNode& m = tree[j];
+      ++node_visits_;
+      if (m.sub_end == m.begin || !touch(m.bound, x.box)) {
+        j = m.skip;
+        continue;
+      }
+      if (!touch(own[j], x.box)) {
+        ++j;
+        continue;
+      }
+      const int axis = std::max<int>(axes[j], 0);
+      const Real limit = sweep_limit(x.box, axes[j]);
+      std::int32_t k = m.begin;
+      for (; k < m.end && boxes[k].box.min[axis] <= limit; ++k) {
+        if (touch(x.box, boxes[k].box))
+          keys_.push_back(pair_key(x.id, boxes[k].id));
+      }
+      box_tests_ += k - m.begin;
+      ++j;
+    }
+  }
+}
+
+void LooseOctreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
+  keys_.clear();
+  box_tests_ = 0;
+  node_visits_ = 0;
+  if (root_ >= 0) {
+    maintain(root_);
+    collapse_root();
+  }
+  pack();
+  for (auto n = 0; n < static_cast<std::int32_t>(dyn_nodes_.size()); ++n) {
+    if (dyn_nodes_[n].end > dyn_nodes_[n].begin)
+      search_node(n);
+  }
+  for (const std::int32_t s : unbounded_)
+    search_unbounded(s);
+  for (std::size_t i = 0; i < unbounded_.size(); ++i) {
+    const Proxy& a = proxies_[unbounded_[i]];
+    for (std::size_t j = i + 1; j < unbounded_.size(); ++j) {
+      const Proxy& b = proxies_[unbounded_[j]];
+      if (!(a.is_static && b.is_static) && a.box.overlaps(b.box))
+        keys_.push_back(pair_key(a.id, b.id));
+    }
+  }
+  sort_keys(keys_, sort_scratch_);
+  out.resize(keys_.size());
+  for (std::size_t i = 0; i < keys_.size(); ++i) {
+    out[i].a = static_cast<std::int32_t>(keys_[i] >> 32);
+    out[i].b = static_cast<std::int32_t>(keys_[i] & 0xffffffffu);
+  }
+}
+
+void LooseOctreeBroadPhase::query_node(std::int32_t n, const Aabb& box,
+                                       std::vector<std::int32_t>& out) const {
+  const Node& node = nodes_[n];
+  if (!node.loose.overlaps(box))
+    return;
+  for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
+    if (proxies_[s].box.overlaps(box))
+      out.push_back(proxies_[s].id);
+  }
+  for (const std::int32_t c : node.child) {
+    if (c >= 0)
+      query_node(c, box, out);
+  }
+}
+
+void LooseOctreeBroadPhase::query(const Aabb& box, std::vector<std::int32_t>& out) const {
+  out.clear();
+  if (root_ >= 0)
+    query_node(root_, box, out);
+  for (const std::int32_t s : unbounded_) {
+    if (proxies_[s].box.overlaps(box))
+      out.push_back(proxies_[s].id);
+  }
+  std::sort(out.begin(), out.end());
+}
+
+void LooseOctreeBroadPhase::ray_node(std::int32_t n, const Vec3& o, const Vec3& d, Real max_t,
+                                     std::vector<std::int32_t>& out) const {
+  const Node& node = nodes_[n];
+  if (!segment_touches_aabb(o, d, max_t, node.loose))
+    return;
+  for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
+    if (segment_touches_aabb(o, d, max_t, proxies_[s].box))
+      out.push_back(proxies_[s].id);
+  }
+  for (const std::int32_t c : node.child) {
+    if (c >= 0)
+      ray_node(c, o, d, max_t, out);
+  }
+}
+
+void LooseOctreeBroadPhase::ray_cast(const Vec3& origin, const Vec3& direction, Real max_t,
+                                     std::vector<std::int32_t>& out) const {
+  out.clear();
+  if (root_ >= 0)
+    ray_node(root_, origin, direction, max_t, out);
+  for (const std::int32_t s : unbounded_) {
+    if (segment_touches_aabb(origin, direction, max_t, proxies_[s].box))
+      out.push_back(proxies_[s].id);
+  }
+  std::sort(out.begin(), out.end());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inspection
+
+LooseOctreeBroadPhase::Stats LooseOctreeBroadPhase::stats() const {
+  Stats s;
+  s.nodes = static_cast<int>(nodes_.size() - free_nodes_.size());
+  s.unbounded = static_cast<int>(unbounded_.size());
+  s.box_tests = box_tests_;
+  s.node_visits = node_visits_;
+  if (root_ >= 0) {
+    std::vector<std::int32_t> stack{root_};
+    while (!stack.empty()) {
+      const Node& n = nodes_[stack.back()];
+      stack.pop_back();
+      s.depth = std::max(s.depth, static_cast<int>(n.depth));
+      for (const std::int32_t c : n.child) {
+        if (c >= 0)
+          stack.push_back(c);
+      }
+    }
+  }
+  return s;
+}
+
+int LooseOctreeBroadPhase::level_of(std::int32_t id) const {
+  const Proxy& p = proxies_[slot_of_id_[id]];
+  return p.node < 0 ? -1 : nodes_[p.node].depth;
+}
+
+Aabb LooseOctreeBroadPhase::loose_bound_of(std::int32_t id) const {
+  const Proxy& p = proxies_[slot_of_id_[id]];
+  if (p.node < 0) {
+    const Real inf = std::numeric_limits<Real>::infinity();
+    return {Vec3::Constant(-inf), Vec3::Constant(inf)};
+  }
+  return nodes_[p.node].loose;
+}
+
+Real LooseOctreeBroadPhase::root_half_size() const {
+  return root_ < 0 ? Real(0) : nodes_[root_].half;
+}
+
+Vec3 LooseOctreeBroadPhase::root_centre() const {
+  return root_ < 0 ? Vec3::Zero() : nodes_[root_].centre;
+}
+
+int LooseOctreeBroadPhase::size_level(const Aabb& box) const {
+  const Real r = max_half_extent(box);
+  int level = 0;
+  Real half = root_half_size();
+  while (level < d_max_ && r <= k_ * (half * Real(0.5))) {
+    half *= Real(0.5);
+    ++level;
+  }
+  return level;
+}
+
+}  // namespace tumble
