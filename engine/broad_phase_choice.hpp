@@ -13,10 +13,10 @@ struct SceneStatistics {
   int unbounded_bodies = 0;  // planes
   // Largest over median bounding radius of the bounded bodies: 1 when all are alike.
   Real size_spread = 1;
-  // Fraction of the bounded bodies' bounding volume filled by the bodies themselves (boxes of
-  // their bounding spheres): near 1 when packed, near 0 when sparse or clustered in a big box.
-  Real fill = 0;
 };
+
+// At or below this many bodies (static ones included) `auto` is brute force.
+inline constexpr int kBruteForceBodyLimit = 40;
 
 SceneStatistics scene_statistics(const Scene& scene);
 
