@@ -1,4 +1,5 @@
 #include "collision/loose_octree_broad_phase.hpp"
+#include "collision/pair_keys.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -59,52 +60,7 @@ inline Real sweep_limit(const Aabb& query, int axis) {
   return axis >= 0 ? query.max[axis] : std::numeric_limits<Real>::infinity();
 }
 
-std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
-  if (a > b)
-    std::swap(a, b);
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-
-// LSD radix sort of the 64-bit pair keys (a << 32 | b) on 11-bit digits, covering only the bits
-// that are in use in each half: ids below 2048 take 2 passes, below 4 million 4. Small inputs go
-// to std::sort.
-void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
-  const std::size_t n = keys.size();
-  if (n < 1024) {
-    std::sort(keys.begin(), keys.end());
-    return;
-  }
-  constexpr int kDigitBits = 11;
-  constexpr std::uint64_t kMask = (1u << kDigitBits) - 1;
-  std::uint64_t used = 0;
-  for (const std::uint64_t k : keys)
-    used |= k;
-  int shifts[6];
-  int passes = 0;
-  for (const int base : {0, 32}) {
-    const int width = std::bit_width(static_cast<std::uint32_t>(used >> base));
-    for (int s = 0; s < width; s += kDigitBits)
-      shifts[passes++] = base + s;
-  }
-  std::uint32_t hist[6][1 << kDigitBits] = {};
-  for (const std::uint64_t k : keys) {
-    for (int p = 0; p < passes; ++p)
-      ++hist[p][(k >> shifts[p]) & kMask];
-  }
-  scratch.resize(n);
-  for (int p = 0; p < passes; ++p) {
-    std::uint32_t* h = hist[p];
-    std::uint32_t sum = 0;
-    for (int i = 0; i < (1 << kDigitBits); ++i) {
-      const std::uint32_t c = h[i];
-      h[i] = sum;
-      sum += c;
-    }
-    for (const std::uint64_t k : keys)
-      scratch[h[(k >> shifts[p]) & kMask]++] = k;
-    keys.swap(scratch);
-  }
-}
+using detail::pair_key;
 
 }  // namespace
 
@@ -714,7 +670,7 @@ void LooseOctreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
         keys_.push_back(pair_key(a.id, b.id));
     }
   }
-  sort_keys(keys_, sort_scratch_);
+  detail::radix_sort_pair_keys(keys_, sort_scratch_);
   out.resize(keys_.size());
   for (std::size_t i = 0; i < keys_.size(); ++i) {
     out[i].a = static_cast<std::int32_t>(keys_[i] >> 32);
