@@ -31,6 +31,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   contact_points += o.contact_points;
   solver_iterations += o.solver_iterations;
+  state_hash = o.state_hash;  // the latest step's
 }
 
 }  // namespace tumble

@@ -90,6 +90,7 @@ void World::step() {
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
   state_.time = static_cast<Real>(state_.step) * w.dt;
+  current_.state_hash = state_hash(state_);
   last_step_ = current_;
 }
 
