@@ -20,38 +20,6 @@ bool inside(const Aabb& outer, const Aabb& inner) {
          (inner.max.array() <= outer.max.array()).all();
 }
 
-// Aabb::overlaps without short-circuit branches: in the inner loops the outcome is close to a
-// coin flip per comparison, and six well-predicted-or-not branches cost more than six compares.
-inline bool touch(const Aabb& a, const Aabb& b) {
-  return (a.min.x() <= b.max.x()) & (b.min.x() <= a.max.x()) & (a.min.y() <= b.max.y()) &
-         (b.min.y() <= a.max.y()) & (a.min.z() <= b.max.z()) & (b.min.z() <= a.max.z());
-}
-
-// A node's own list longer than this is sorted by min along its longest axis, so the loops over
-// it can stop at the first box that starts beyond the query's end (sweep and prune within the
-// list). Shorter lists are scanned whole: sorting them would cost more than it saves.
-constexpr std::int32_t kSweepThreshold = 12;
-
-// Sorts boxes[begin, end) by min along the longest axis of `bound` if the range is long, and
-// returns that axis; -1 (unsorted, scan everything) otherwise.
-template <class PackedBoxes>
-std::int8_t sort_for_sweep(PackedBoxes& boxes, std::int32_t begin, std::int32_t end,
-                           const Aabb& bound) {
-  if (end - begin <= kSweepThreshold)
-    return -1;
-  int axis = 0;
-  (bound.max - bound.min).maxCoeff(&axis);
-  std::sort(boxes.begin() + begin, boxes.begin() + end,
-            [axis](const auto& x, const auto& y) { return x.box.min[axis] < y.box.min[axis]; });
-  return static_cast<std::int8_t>(axis);
-}
-
-// The bound a loop over a node's own list may stop at: the query's max along the list's sort
-// axis, or +inf for an unsorted list.
-inline Real sweep_limit(const Aabb& query, int axis) {
-  return axis >= 0 ? query.max[axis] : std::numeric_limits<Real>::infinity();
-}
-
 using detail::pair_key;
 
 Aabb everything() {
@@ -360,199 +328,51 @@ void KdTreeBroadPhase::update(std::int32_t id, const Aabb& box) {
   }
 }
 
-// Writes the proxies out in node preorder (nodes_ is in preorder already): dynamic and static
-// proxies in two arrays, each node a contiguous range of both, with its subtree's end and the
-// exact bounds of its subtree's boxes (the refit).
+// Writes the proxies out in node preorder (nodes_ is in preorder already): see
+// collision/packed_proxy_tree.hpp.
 void KdTreeBroadPhase::pack() {
   const auto count = static_cast<std::int32_t>(nodes_.size());
-  dyn_nodes_.resize(static_cast<std::size_t>(count));
-  st_nodes_.resize(static_cast<std::size_t>(count));
-  std::int32_t dyn_total = 0, st_total = 0;
+  packed_.start(count);
   for (std::int32_t j = 0; j < count; ++j) {
     const Node& node = nodes_[j];
-    PackedNode& d = dyn_nodes_[j];
-    PackedNode& st = st_nodes_[j];
-    d.skip = st.skip = node.skip;
-    d.bound = st.bound = Aabb{};
-    d.begin = d.end = dyn_total;  // end is the scatter cursor for now
-    dyn_total += node.count - node.static_count;
-    st.begin = st.end = st_total;
-    st_total += node.static_count;
+    packed_.set_node(j, node.parent, node.skip, node.count - node.static_count, node.static_count);
   }
-  dyn_axis_.resize(static_cast<std::size_t>(count));
-  st_axis_.resize(static_cast<std::size_t>(count));
-  dyn_own_.resize(static_cast<std::size_t>(count));
-  st_own_.resize(static_cast<std::size_t>(count));
-  dyn_.resize(static_cast<std::size_t>(dyn_total));
-  st_.resize(static_cast<std::size_t>(st_total));
+  packed_.allocate();
   for (const Proxy& p : proxies_) {
-    if (!p.alive || p.node < 0)
-      continue;
-    if (p.is_static)
-      st_[st_nodes_[p.node].end++] = {p.box, p.id};
-    else
-      dyn_[dyn_nodes_[p.node].end++] = {p.box, p.id};
+    if (p.alive && p.node >= 0)
+      packed_.place(p.node, p.box, p.id, p.is_static);
   }
-  for (std::int32_t j = 0; j < count; ++j) {
-    PackedNode& d = dyn_nodes_[j];
-    PackedNode& st = st_nodes_[j];
-    d.sub_end = d.end;
-    st.sub_end = st.end;
-    for (std::int32_t i = d.begin; i < d.end; ++i)
-      d.bound.grow(dyn_[i].box);
-    for (std::int32_t i = st.begin; i < st.end; ++i)
-      st.bound.grow(st_[i].box);
-    dyn_own_[j] = d.bound;
-    st_own_[j] = st.bound;
-    dyn_axis_[j] = sort_for_sweep(dyn_, d.begin, d.end, d.bound);
-    st_axis_[j] = sort_for_sweep(st_, st.begin, st.end, st.bound);
-  }
-  for (std::int32_t j = count - 1; j > 0; --j) {
-    const std::int32_t p = nodes_[j].parent;
-    for (std::vector<PackedNode>* v : {&dyn_nodes_, &st_nodes_}) {
-      const PackedNode& c = (*v)[j];
-      PackedNode& q = (*v)[p];
-      q.sub_end = std::max(q.sub_end, c.sub_end);
-      q.bound.grow(c.bound);
-    }
-  }
+  packed_.finish();
 }
 
 void KdTreeBroadPhase::search_node(std::int32_t n) {
-  const std::int32_t begin = dyn_nodes_[n].begin;
-  const std::int32_t end = dyn_nodes_[n].end;
+  const std::int32_t begin = packed_.dynamic_begin(n);
+  const std::int32_t end = packed_.dynamic_end(n);
   if (nodes_[n].axis < 0) {
-    search_group(n, begin, end);
+    packed_.search_group(n, begin, end, keys_);
     return;
   }
   // Straddlers of one plane spread over the whole plane, so the union of their boxes is a slab
   // that would meet most of the subtree: each one searches with its own box instead.
   for (std::int32_t i = begin; i < end; ++i)
-    search_group(n, i, i + 1);
-}
-
-// The dynamic proxies [db, de) of packed node n (a leaf's whole range, or one straddler) against
-// the rest, sharing one walk with the union of their boxes.
-void KdTreeBroadPhase::search_group(std::int32_t n, std::int32_t db, std::int32_t de) {
-  Aabb u;
-  for (std::int32_t i = db; i < de; ++i)
-    u.grow(dyn_[i].box);
-  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
-  // Dynamic partners come later in preorder: every node before n is an ancestor of n or in a
-  // subtree that ends before n, so its dynamic range lies before db. Walk forward from n.
-  std::int32_t j = n;
-  while (j < count) {
-    const PackedNode& m = dyn_nodes_[j];
-    ++node_visits_;
-    if (m.sub_end <= std::max(m.begin, db + 1) || !touch(m.bound, u)) {
-      j = m.skip;
-      continue;
-    }
-    const Aabb& own = dyn_own_[j];
-    const int sort_axis = dyn_axis_[j];
-    const int axis = std::max(sort_axis, 0);
-    for (std::int32_t i = db; i < de; ++i) {
-      const std::int32_t kb = std::max(m.begin, i + 1);
-      if (kb >= m.end)
-        break;  // kb only grows with i
-      const Aabb& a = dyn_[i].box;
-      if (!touch(a, own))
-        continue;
-      // The range is sorted by min along `axis` when long: stop at the first box starting
-      // beyond a's end (a sweep over the node's own list).
-      const Real limit = sweep_limit(a, sort_axis);
-      std::int32_t k = kb;
-      for (; k < m.end && dyn_[k].box.min[axis] <= limit; ++k) {
-        if (touch(a, dyn_[k].box))
-          keys_.push_back(pair_key(dyn_[i].id, dyn_[k].id));
-      }
-      box_tests_ += k - kb;
-    }
-    ++j;
-  }
-  // Static partners can be anywhere: walk the static hierarchy from the root.
-  if (st_.empty())
-    return;
-  j = 0;
-  while (j < count) {
-    const PackedNode& m = st_nodes_[j];
-    ++node_visits_;
-    if (m.sub_end == m.begin || !touch(m.bound, u)) {
-      j = m.skip;
-      continue;
-    }
-    if (m.end > m.begin && touch(st_own_[j], u)) {
-      const Aabb& own = st_own_[j];
-      const int sort_axis = st_axis_[j];
-      const int axis = std::max(sort_axis, 0);
-      for (std::int32_t i = db; i < de; ++i) {
-        const Aabb& a = dyn_[i].box;
-        if (!touch(a, own))
-          continue;
-        const Real limit = sweep_limit(a, sort_axis);
-        std::int32_t k = m.begin;
-        for (; k < m.end && st_[k].box.min[axis] <= limit; ++k) {
-          if (touch(a, st_[k].box))
-            keys_.push_back(pair_key(dyn_[i].id, st_[k].id));
-        }
-        box_tests_ += k - m.begin;
-      }
-    }
-    ++j;
-  }
-}
-
-// An unbounded proxy against every bounded one (bounded proxies never look at the unbounded
-// list, so each such pair is seen once, here). Comparisons with infinities are well defined.
-void KdTreeBroadPhase::search_unbounded(std::int32_t slot) {
-  const Proxy& x = proxies_[slot];
-  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
-  for (int kind = 0; kind < 2; ++kind) {
-    if (kind == 1 && x.is_static)
-      break;  // static-static pairs are never reported
-    const std::vector<PackedNode>& tree = kind == 0 ? dyn_nodes_ : st_nodes_;
-    const std::vector<PackedBox>& boxes = kind == 0 ? dyn_ : st_;
-    const std::vector<Aabb>& own = kind == 0 ? dyn_own_ : st_own_;
-    const std::vector<std::int8_t>& axes = kind == 0 ? dyn_axis_ : st_axis_;
-    std::int32_t j = 0;
-    while (j < count) {
-      const PackedNode& m = tree[j];
-      ++node_visits_;
-      if (m.sub_end == m.begin || !touch(m.bound, x.box)) {
-        j = m.skip;
-        continue;
-      }
-      if (!touch(own[j], x.box)) {
-        ++j;
-        continue;
-      }
-      const int axis = std::max<int>(axes[j], 0);
-      const Real limit = sweep_limit(x.box, axes[j]);
-      std::int32_t k = m.begin;
-      for (; k < m.end && boxes[k].box.min[axis] <= limit; ++k) {
-        if (touch(x.box, boxes[k].box))
-          keys_.push_back(pair_key(x.id, boxes[k].id));
-      }
-      box_tests_ += k - m.begin;
-      ++j;
-    }
-  }
+    packed_.search_group(n, i, i + 1, keys_);
 }
 
 void KdTreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   keys_.clear();
-  box_tests_ = 0;
-  node_visits_ = 0;
+  packed_.reset_counters();
   const bool many_inserted = inserted_since_build_ > built_count_ / 4 + options_.leaf_size;
   if (options_.rebuild == KdTreeOptions::Rebuild::every_step || rebuild_due_ || many_inserted)
     rebuild();
   pack();
-  for (auto n = 0; n < static_cast<std::int32_t>(dyn_nodes_.size()); ++n) {
-    if (dyn_nodes_[n].end > dyn_nodes_[n].begin)
+  for (std::int32_t n = 0; n < packed_.node_count(); ++n) {
+    if (packed_.dynamic_end(n) > packed_.dynamic_begin(n))
       search_node(n);
   }
+  // Unbounded proxies stay outside the tree; bounded proxies never look at them, so each such
+  // pair is seen once, here.
   for (const std::int32_t s : unbounded_)
-    search_unbounded(s);
+    packed_.search_outsider(proxies_[s].box, proxies_[s].id, proxies_[s].is_static, keys_);
   for (std::size_t i = 0; i < unbounded_.size(); ++i) {
     const Proxy& a = proxies_[unbounded_[i]];
     for (std::size_t j = i + 1; j < unbounded_.size(); ++j) {
@@ -572,7 +392,7 @@ void KdTreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   // so that both a tree whose leaves fill up (work grows) and a tree built for a crowd that has
   // since spread out (pairs fall, work does not) are caught.
   if (options_.rebuild == KdTreeOptions::Rebuild::on_degradation && bounded_count_ > 0) {
-    const double work = double(box_tests_ + node_visits_) /
+    const double work = double(packed_.box_tests() + packed_.node_visits()) /
                         double(keys_.size() + static_cast<std::size_t>(bounded_count_));
     if (measure_baseline_) {
       baseline_work_ = work;
@@ -656,8 +476,8 @@ KdTreeBroadPhase::Stats KdTreeBroadPhase::stats() const {
   }
   s.unbounded = static_cast<int>(unbounded_.size());
   s.rebuilds = rebuilds_;
-  s.box_tests = box_tests_;
-  s.node_visits = node_visits_;
+  s.box_tests = packed_.box_tests();
+  s.node_visits = packed_.node_visits();
   return s;
 }
 

@@ -63,6 +63,7 @@
 #include <vector>
 
 #include "collision/broad_phase.hpp"
+#include "collision/packed_proxy_tree.hpp"
 
 namespace tumble {
 
@@ -146,17 +147,6 @@ class KdTreeBroadPhase final : public BroadPhase {
     bool is_static = false;
     bool alive = false;
   };
-  struct PackedNode {
-    Aabb bound;
-    std::int32_t skip = 0;
-    std::int32_t begin = 0;
-    std::int32_t end = 0;
-    std::int32_t sub_end = 0;
-  };
-  struct PackedBox {
-    Aabb box;
-    std::int32_t id = 0;
-  };
   struct Split {
     int axis = -1;
     Real plane = 0;
@@ -175,8 +165,6 @@ class KdTreeBroadPhase final : public BroadPhase {
   std::int32_t descend(std::int32_t from, const Aabb& box) const;
   void pack();
   void search_node(std::int32_t n);
-  void search_group(std::int32_t n, std::int32_t db, std::int32_t de);
-  void search_unbounded(std::int32_t slot);
   void query_node(std::int32_t n, const Aabb& box, std::vector<std::int32_t>& out) const;
   void ray_node(std::int32_t n, const Vec3& o, const Vec3& d, Real max_t,
                 std::vector<std::int32_t>& out) const;
@@ -200,18 +188,9 @@ class KdTreeBroadPhase final : public BroadPhase {
 
   // Scratch, reused so a warmed-up step allocates nothing.
   std::vector<std::int32_t> work_;
-  std::vector<PackedNode> dyn_nodes_;
-  std::vector<PackedNode> st_nodes_;
-  std::vector<std::int8_t> dyn_axis_;  // per packed node: sort axis of its own list, -1 if none
-  std::vector<std::int8_t> st_axis_;
-  std::vector<Aabb> dyn_own_;  // per packed node: bound of its own dynamic boxes
-  std::vector<Aabb> st_own_;   // per packed node: bound of its own static boxes
-  std::vector<PackedBox> dyn_;
-  std::vector<PackedBox> st_;
+  detail::PackedProxyTree packed_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint64_t> sort_scratch_;
-  std::int64_t box_tests_ = 0;
-  std::int64_t node_visits_ = 0;
 };
 
 }  // namespace tumble

@@ -23,41 +23,9 @@ Vec3 centre_of(const Aabb& b) {
   return Real(0.5) * (b.min + b.max);
 }
 
-// Aabb::overlaps without short-circuit branches: in the inner loops the outcome is close to a
-// coin flip per comparison, and six well-predicted-or-not branches cost more than six compares.
-inline bool touch(const Aabb& a, const Aabb& b) {
-  return (a.min.x() <= b.max.x()) & (b.min.x() <= a.max.x()) & (a.min.y() <= b.max.y()) &
-         (b.min.y() <= a.max.y()) & (a.min.z() <= b.max.z()) & (b.min.z() <= a.max.z());
-}
-
 int octant_of(const Vec3& node_centre, const Vec3& p) {
   return (p.x() >= node_centre.x() ? 1 : 0) | (p.y() >= node_centre.y() ? 2 : 0) |
          (p.z() >= node_centre.z() ? 4 : 0);
-}
-
-// A node's own list longer than this is sorted by min along its longest axis, so the loops over
-// it can stop at the first box that starts beyond the query's end (sweep and prune within the
-// list). Shorter lists are scanned whole: sorting them would cost more than it saves.
-constexpr std::int32_t kSweepThreshold = 12;
-
-// Sorts boxes[begin, end) by min along the longest axis of `bound` if the range is long, and
-// returns that axis; -1 (unsorted, scan everything) otherwise.
-template <class PackedBoxes>
-std::int8_t sort_for_sweep(PackedBoxes& boxes, std::int32_t begin, std::int32_t end,
-                           const Aabb& bound) {
-  if (end - begin <= kSweepThreshold)
-    return -1;
-  int axis = 0;
-  (bound.max - bound.min).maxCoeff(&axis);
-  std::sort(boxes.begin() + begin, boxes.begin() + end,
-            [axis](const auto& x, const auto& y) { return x.box.min[axis] < y.box.min[axis]; });
-  return static_cast<std::int8_t>(axis);
-}
-
-// The bound a loop over a node's own list may stop at: the query's max along the list's sort
-// axis, or +inf for an unsorted list.
-inline Real sweep_limit(const Aabb& query, int axis) {
-  return axis >= 0 ? query.max[axis] : std::numeric_limits<Real>::infinity();
 }
 
 using detail::pair_key;
@@ -452,216 +420,66 @@ void LooseOctreeBroadPhase::update(std::int32_t id, const Aabb& box) {
   place(slot);
 }
 
-// Writes the live tree out in preorder (see the header comment). The proxies are scattered by
-// one sequential pass over the slot array into ranges sized from the nodes' counts, which is
-// much cheaper than chasing each node's linked list through memory.
+// Writes the live tree out in preorder (collision/packed_proxy_tree.hpp). The proxies are
+// scattered by one sequential pass over the slot array into ranges sized from the nodes'
+// counts, which is much cheaper than chasing each node's linked list through memory.
 void LooseOctreeBroadPhase::pack() {
-  dyn_nodes_.clear();
-  st_nodes_.clear();
-  pack_parent_.clear();
-  if (root_ < 0) {
-    dyn_.clear();
-    st_.clear();
-    return;
-  }
-  stack_.clear();
-  stack_.push_back(root_);
-  while (!stack_.empty()) {
-    const std::int32_t n = stack_.back();
-    stack_.pop_back();
-    Node& node = nodes_[n];
-    const auto j = static_cast<std::int32_t>(dyn_nodes_.size());
-    node.pre = j;
-    pack_parent_.push_back(n == root_ ? -1 : nodes_[node.parent].pre);
-    PackedNode d, st;
-    d.skip = st.skip = j + 1;
-    d.end = node.count - node.static_count;  // own counts for now
-    st.end = node.static_count;
-    dyn_nodes_.push_back(d);
-    st_nodes_.push_back(st);
-    for (int o = 7; o >= 0; --o) {
-      if (node.child[o] >= 0)
-        stack_.push_back(node.child[o]);
+  std::int32_t count = 0;
+  if (root_ >= 0) {
+    // Preorder indices first: the packed tree wants its nodes in preorder, in one pass.
+    stack_.clear();
+    stack_.push_back(root_);
+    while (!stack_.empty()) {
+      const std::int32_t n = stack_.back();
+      stack_.pop_back();
+      nodes_[n].pre = count++;
+      for (int o = 7; o >= 0; --o) {
+        if (nodes_[n].child[o] >= 0)
+          stack_.push_back(nodes_[n].child[o]);
+      }
     }
   }
-  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
-  std::int32_t dyn_total = 0, st_total = 0;
-  for (std::int32_t j = 0; j < count; ++j) {
-    PackedNode& d = dyn_nodes_[j];
-    PackedNode& st = st_nodes_[j];
-    d.begin = dyn_total;
-    dyn_total += d.end;
-    d.end = d.begin;  // scatter cursor
-    st.begin = st_total;
-    st_total += st.end;
-    st.end = st.begin;
+  packed_.start(count);
+  if (root_ >= 0) {
+    stack_.clear();
+    stack_.push_back(root_);
+    while (!stack_.empty()) {
+      const std::int32_t n = stack_.back();
+      stack_.pop_back();
+      const Node& node = nodes_[n];
+      const std::int32_t j = node.pre;
+      packed_.set_node(j, n == root_ ? -1 : nodes_[node.parent].pre, j + 1,
+                       node.count - node.static_count, node.static_count);
+      for (int o = 7; o >= 0; --o) {
+        if (node.child[o] >= 0)
+          stack_.push_back(node.child[o]);
+      }
+    }
   }
-  dyn_axis_.resize(static_cast<std::size_t>(count));
-  st_axis_.resize(static_cast<std::size_t>(count));
-  dyn_own_.resize(static_cast<std::size_t>(count));
-  st_own_.resize(static_cast<std::size_t>(count));
-  dyn_.resize(static_cast<std::size_t>(dyn_total));
-  st_.resize(static_cast<std::size_t>(st_total));
+  packed_.allocate();
   for (const Proxy& p : proxies_) {
-    if (!p.alive || p.node < 0)
-      continue;
-    const std::int32_t j = nodes_[p.node].pre;
-    if (p.is_static)
-      st_[st_nodes_[j].end++] = {p.box, p.id};
-    else
-      dyn_[dyn_nodes_[j].end++] = {p.box, p.id};
+    if (p.alive && p.node >= 0)
+      packed_.place(nodes_[p.node].pre, p.box, p.id, p.is_static);
   }
-  for (std::int32_t j = 0; j < count; ++j) {
-    PackedNode& d = dyn_nodes_[j];
-    PackedNode& st = st_nodes_[j];
-    d.sub_end = d.end;
-    st.sub_end = st.end;
-    for (std::int32_t i = d.begin; i < d.end; ++i)
-      d.bound.grow(dyn_[i].box);
-    for (std::int32_t i = st.begin; i < st.end; ++i)
-      st.bound.grow(st_[i].box);
-    dyn_own_[j] = d.bound;
-    st_own_[j] = st.bound;
-    dyn_axis_[j] = sort_for_sweep(dyn_, d.begin, d.end, d.bound);
-    st_axis_[j] = sort_for_sweep(st_, st.begin, st.end, st.bound);
-  }
-  // Children follow their parent in preorder, so one backward sweep completes every subtree.
-  for (std::int32_t j = count - 1; j > 0; --j) {
-    const std::int32_t p = pack_parent_[j];
-    for (std::vector<PackedNode>* v : {&dyn_nodes_, &st_nodes_}) {
-      const PackedNode& c = (*v)[j];
-      PackedNode& q = (*v)[p];
-      q.skip = std::max(q.skip, c.skip);
-      q.sub_end = std::max(q.sub_end, c.sub_end);
-      q.bound.grow(c.bound);
-    }
-  }
-}
-
-// All pairs of the dynamic proxies of packed node n with the rest, each pair once (header).
-void LooseOctreeBroadPhase::search_node(std::int32_t n) {
-  const std::int32_t db = dyn_nodes_[n].begin;
-  const std::int32_t de = dyn_nodes_[n].end;
-  Aabb u;
-  for (std::int32_t i = db; i < de; ++i)
-    u.grow(dyn_[i].box);
-  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
-  // Dynamic partners come later in preorder: every node before n is an ancestor of n or in a
-  // subtree that ends before n, so its dynamic range lies before db. Walk forward from n.
-  std::int32_t j = n;
-  while (j < count) {
-    const PackedNode& m = dyn_nodes_[j];
-    ++node_visits_;
-    if (m.sub_end <= std::max(m.begin, db + 1) || !touch(m.bound, u)) {
-      j = m.skip;
-      continue;
-    }
-    const Aabb& own = dyn_own_[j];
-    const int sort_axis = dyn_axis_[j];
-    const int axis = std::max(sort_axis, 0);
-    for (std::int32_t i = db; i < de; ++i) {
-      const std::int32_t kb = std::max(m.begin, i + 1);
-      if (kb >= m.end)
-        break;  // kb only grows with i
-      const Aabb& a = dyn_[i].box;
-      if (!touch(a, own))
-        continue;
-      // The range is sorted by min along `axis` when long: stop at the first box starting
-      // beyond a's end (a sweep over the node's own list).
-      const Real limit = sweep_limit(a, sort_axis);
-      std::int32_t k = kb;
-      for (; k < m.end && dyn_[k].box.min[axis] <= limit; ++k) {
-        if (touch(a, dyn_[k].box))
-          keys_.push_back(pair_key(dyn_[i].id, dyn_[k].id));
-      }
-      box_tests_ += k - kb;
-    }
-    ++j;
-  }
-  // Static partners can be anywhere: walk the static hierarchy from the root.
-  if (st_.empty())
-    return;
-  j = 0;
-  while (j < count) {
-    const PackedNode& m = st_nodes_[j];
-    ++node_visits_;
-    if (m.sub_end == m.begin || !touch(m.bound, u)) {
-      j = m.skip;
-      continue;
-    }
-    if (m.end > m.begin && touch(st_own_[j], u)) {
-      const Aabb& own = st_own_[j];
-      const int sort_axis = st_axis_[j];
-      const int axis = std::max(sort_axis, 0);
-      for (std::int32_t i = db; i < de; ++i) {
-        const Aabb& a = dyn_[i].box;
-        if (!touch(a, own))
-          continue;
-        const Real limit = sweep_limit(a, sort_axis);
-        std::int32_t k = m.begin;
-        for (; k < m.end && st_[k].box.min[axis] <= limit; ++k) {
-          if (touch(a, st_[k].box))
-            keys_.push_back(pair_key(dyn_[i].id, st_[k].id));
-        }
-        box_tests_ += k - m.begin;
-      }
-    }
-    ++j;
-  }
-}
-
-// An unbounded proxy against every bounded one (bounded proxies never look at the unbounded
-// list, so each such pair is seen once, here). Comparisons with infinities are well defined.
-void LooseOctreeBroadPhase::search_unbounded(std::int32_t slot) {
-  const Proxy& x = proxies_[slot];
-  const auto count = static_cast<std::int32_t>(dyn_nodes_.size());
-  for (int kind = 0; kind < 2; ++kind) {
-    if (kind == 1 && x.is_static)
-      break;  // static-static pairs are never reported
-    const std::vector<PackedNode>& tree = kind == 0 ? dyn_nodes_ : st_nodes_;
-    const std::vector<PackedBox>& boxes = kind == 0 ? dyn_ : st_;
-    const std::vector<Aabb>& own = kind == 0 ? dyn_own_ : st_own_;
-    const std::vector<std::int8_t>& axes = kind == 0 ? dyn_axis_ : st_axis_;
-    std::int32_t j = 0;
-    while (j < count) {
-      const PackedNode& m = tree[j];
-      ++node_visits_;
-      if (m.sub_end == m.begin || !touch(m.bound, x.box)) {
-        j = m.skip;
-        continue;
-      }
-      if (!touch(own[j], x.box)) {
-        ++j;
-        continue;
-      }
-      const int axis = std::max<int>(axes[j], 0);
-      const Real limit = sweep_limit(x.box, axes[j]);
-      std::int32_t k = m.begin;
-      for (; k < m.end && boxes[k].box.min[axis] <= limit; ++k) {
-        if (touch(x.box, boxes[k].box))
-          keys_.push_back(pair_key(x.id, boxes[k].id));
-      }
-      box_tests_ += k - m.begin;
-      ++j;
-    }
-  }
+  packed_.finish();
 }
 
 void LooseOctreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   keys_.clear();
-  box_tests_ = 0;
-  node_visits_ = 0;
+  packed_.reset_counters();
   if (root_ >= 0) {
     maintain(root_);
     collapse_root();
   }
   pack();
-  for (auto n = 0; n < static_cast<std::int32_t>(dyn_nodes_.size()); ++n) {
-    if (dyn_nodes_[n].end > dyn_nodes_[n].begin)
-      search_node(n);
+  for (std::int32_t n = 0; n < packed_.node_count(); ++n) {
+    if (packed_.dynamic_end(n) > packed_.dynamic_begin(n))
+      packed_.search_group(n, packed_.dynamic_begin(n), packed_.dynamic_end(n), keys_);
   }
+  // Unbounded proxies stay outside the tree; bounded proxies never look at them, so each such
+  // pair is seen once, here.
   for (const std::int32_t s : unbounded_)
-    search_unbounded(s);
+    packed_.search_outsider(proxies_[s].box, proxies_[s].id, proxies_[s].is_static, keys_);
   for (std::size_t i = 0; i < unbounded_.size(); ++i) {
     const Proxy& a = proxies_[unbounded_[i]];
     for (std::size_t j = i + 1; j < unbounded_.size(); ++j) {
@@ -738,8 +556,8 @@ LooseOctreeBroadPhase::Stats LooseOctreeBroadPhase::stats() const {
   Stats s;
   s.nodes = static_cast<int>(nodes_.size() - free_nodes_.size());
   s.unbounded = static_cast<int>(unbounded_.size());
-  s.box_tests = box_tests_;
-  s.node_visits = node_visits_;
+  s.box_tests = packed_.box_tests();
+  s.node_visits = packed_.node_visits();
   if (root_ >= 0) {
     std::vector<std::int32_t> stack{root_};
     while (!stack.empty()) {

@@ -59,6 +59,7 @@
 #include <vector>
 
 #include "collision/broad_phase.hpp"
+#include "collision/packed_proxy_tree.hpp"
 
 namespace tumble {
 
@@ -120,22 +121,6 @@ class LooseOctreeBroadPhase final : public BroadPhase {
     bool is_static = false;
     bool alive = false;
   };
-  // The preorder snapshot find_pairs searches (see the header comment). One array for the
-  // dynamic proxies and one for the static ones; per node and per kind, a 64-byte record (one
-  // cache line) with the exact bound of that kind of box in the subtree, the node's own range
-  // [begin, end) in the kind's array, the end of the subtree's range, and the preorder index
-  // just past the subtree (skip).
-  struct PackedNode {
-    Aabb bound;
-    std::int32_t skip = 0;
-    std::int32_t begin = 0;
-    std::int32_t end = 0;
-    std::int32_t sub_end = 0;
-  };
-  struct PackedBox {
-    Aabb box;
-    std::int32_t id = 0;
-  };
 
   static bool is_unbounded(const Aabb& box);
   Real max_half_extent(const Aabb& box) const;
@@ -155,8 +140,6 @@ class LooseOctreeBroadPhase final : public BroadPhase {
   std::int32_t maintain(std::int32_t n);
   void collapse_root();
   void pack();
-  void search_node(std::int32_t n);
-  void search_unbounded(std::int32_t slot);
   void query_node(std::int32_t n, const Aabb& box, std::vector<std::int32_t>& out) const;
   void ray_node(std::int32_t n, const Vec3& o, const Vec3& d, Real max_t,
                 std::vector<std::int32_t>& out) const;
@@ -174,20 +157,10 @@ class LooseOctreeBroadPhase final : public BroadPhase {
   std::vector<std::int32_t> unbounded_;   // slots of proxies with infinite boxes
 
   // find_pairs scratch, reused so a warmed-up step allocates nothing.
-  std::vector<PackedNode> dyn_nodes_;
-  std::vector<PackedNode> st_nodes_;
-  std::vector<std::int32_t> pack_parent_;
-  std::vector<std::int8_t> dyn_axis_;  // per packed node: sort axis of its own list, -1 if none
-  std::vector<std::int8_t> st_axis_;
-  std::vector<Aabb> dyn_own_;  // per packed node: bound of its own dynamic boxes
-  std::vector<Aabb> st_own_;   // per packed node: bound of its own static boxes
-  std::vector<PackedBox> dyn_;
-  std::vector<PackedBox> st_;
+  detail::PackedProxyTree packed_;
   std::vector<std::int32_t> stack_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint64_t> sort_scratch_;
-  std::int64_t box_tests_ = 0;
-  std::int64_t node_visits_ = 0;
 };
 
 }  // namespace tumble
