@@ -1,5 +1,7 @@
 #include "collision/dynamic_aabb_tree.hpp"
 
+#include "collision/binned_sah.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -440,9 +442,6 @@ void DynamicAabbTree::rebuild_subtree(std::int32_t node) {
 // from the free list and the leaves keep their indices (a partial rebuild).
 // Returns the new subtree's root, linked to `parent`.
 std::int32_t DynamicAabbTree::build_binned(std::int32_t parent, bool compact) {
-  constexpr int bins = 16;
-  constexpr Real inf = std::numeric_limits<Real>::infinity();
-  const TreeBox empty = {{inf, inf, inf}, {-inf, -inf, -inf}};
   const auto n = static_cast<std::int32_t>(build_refs_.size());
   assert(n >= 1);
   std::int32_t result = null_node;
@@ -465,84 +464,10 @@ std::int32_t DynamicAabbTree::build_binned(std::int32_t parent, bool compact) {
     } else {
       self = allocate_node();
       scratch_nodes_.push_back(self);
-      // Pass 1: the range's box and the bounds of its centres (min + max, twice the centre:
-      // only the order matters).
-      TreeBox bounds = empty;
-      Real lo[3] = {inf, inf, inf};
-      Real hi[3] = {-inf, -inf, -inf};
-      for (std::int32_t i = task.begin; i < task.end; ++i) {
-        const TreeBox& b = build_refs_[i].box;
-        bounds = TreeBox::merge(bounds, b);
-        for (int k = 0; k < 3; ++k) {
-          const Real c = b.min[k] + b.max[k];
-          lo[k] = std::min(lo[k], c);
-          hi[k] = std::max(hi[k], c);
-        }
-      }
-      nodes_[self].box = bounds;
-      // Fewer bins than objects would only add empty bins: a small range uses one per object.
-      const int nb = std::min(bins, static_cast<int>(task.end - task.begin));
-      Real scale[3];
-      for (int k = 0; k < 3; ++k)
-        scale[k] = hi[k] > lo[k] ? nb / (hi[k] - lo[k]) : 0;
-      const auto bin_of = [&](const TreeBox& b, int k) {
-        return std::min(nb - 1, static_cast<int>((b.min[k] + b.max[k] - lo[k]) * scale[k]));
-      };
-      // Pass 2: bin on all three axes.
-      std::int32_t count[3][bins] = {};
-      TreeBox box[3][bins];
-      for (int k = 0; k < 3; ++k)
-        std::fill(box[k], box[k] + nb, empty);
-      for (std::int32_t i = task.begin; i < task.end; ++i) {
-        const TreeBox& b = build_refs_[i].box;
-        for (int k = 0; k < 3; ++k) {
-          const int j = bin_of(b, k);
-          ++count[k][j];
-          box[k][j] = TreeBox::merge(box[k][j], b);
-        }
-      }
-      int best_axis = -1;
-      int best_split = 0;
-      Real best_cost = inf;
-      for (int k = 0; k < 3; ++k) {
-        if (scale[k] == 0)
-          continue;  // all centres equal on this axis
-        // Right-hand sweep: area and count of bins [b, bins).
-        Real right_area[bins];
-        std::int32_t right_count[bins];
-        TreeBox acc = empty;
-        std::int32_t cnt = 0;
-        for (int b = nb - 1; b > 0; --b) {
-          acc = TreeBox::merge(acc, box[k][b]);
-          cnt += count[k][b];
-          right_area[b] = cnt > 0 ? acc.half_area() : 0;
-          right_count[b] = cnt;
-        }
-        acc = empty;
-        cnt = 0;
-        for (int b = 1; b < nb; ++b) {  // split between bins b-1 and b
-          acc = TreeBox::merge(acc, box[k][b - 1]);
-          cnt += count[k][b - 1];
-          if (cnt == 0 || right_count[b] == 0)
-            continue;
-          const Real cost = acc.half_area() * cnt + right_area[b] * right_count[b];
-          if (cost < best_cost) {
-            best_cost = cost;
-            best_axis = k;
-            best_split = b;
-          }
-        }
-      }
-      // Pass 3: partition.
-      std::int32_t mid;
-      if (best_axis < 0) {
-        mid = task.begin + (task.end - task.begin) / 2;
-      } else {
-        const auto it = std::partition(
-            build_refs_.begin() + task.begin, build_refs_.begin() + task.end,
-            [&](const BuildRef& r) { return bin_of(r.box, best_axis) < best_split; });
-        mid = static_cast<std::int32_t>(it - build_refs_.begin());
-      }
+      const detail::BinnedSplit split =
+          detail::binned_sah_split(build_refs_.data(), task.begin, task.end);
+      nodes_[self].box = split.bounds;
+      const std::int32_t mid = split.mid;
       // The left half is popped next, so it follows its parent in memory (depth-first order).
       build_tasks_.push_back({self, mid, task.end, false});
       build_tasks_.push_back({self, task.begin, mid, true});

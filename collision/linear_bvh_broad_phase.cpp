@@ -1,5 +1,7 @@
 #include "collision/linear_bvh_broad_phase.hpp"
 
+#include "collision/binned_sah.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cassert>
@@ -13,7 +15,6 @@ namespace lbvh {
 namespace {
 
 constexpr Real inf = std::numeric_limits<Real>::infinity();
-constexpr TreeBox empty_box = {{inf, inf, inf}, {-inf, -inf, -inf}};
 
 // Self traversal: visit(leaf_a, leaf_b) for every unordered pair of distinct leaves whose boxes
 // overlap, each once. Same scheme as the dynamic tree's (seed 4.4.1 DualTraverse, a node
@@ -277,7 +278,6 @@ void build_morton_karras(const TreeBox* boxes, const std::int32_t* ids, std::int
 // subtree's leaves are contiguous.
 void build_binned_sah(const TreeBox* boxes, const std::int32_t* ids, std::int32_t n, Hierarchy& out,
                       BuildScratch& scratch) {
-  constexpr int bins = 16;
   out.leaves.resize(static_cast<std::size_t>(n));
   out.nodes.resize(static_cast<std::size_t>(std::max(n - 1, 0)));
   if (n == 0)
@@ -294,78 +294,9 @@ void build_binned_sah(const TreeBox* boxes, const std::int32_t* ids, std::int32_
     while (!tasks.empty()) {
       const BuildScratch::Task task = tasks.back();
       tasks.pop_back();
-      TreeBox bounds = empty_box;
-      Real lo[3] = {inf, inf, inf};
-      Real hi[3] = {-inf, -inf, -inf};
-      for (std::int32_t i = task.begin; i < task.end; ++i) {
-        const TreeBox& b = refs[i].box;
-        bounds = TreeBox::merge(bounds, b);
-        for (int k = 0; k < 3; ++k) {
-          const Real c = b.min[k] + b.max[k];
-          lo[k] = std::min(lo[k], c);
-          hi[k] = std::max(hi[k], c);
-        }
-      }
-      // Fewer bins than objects would only add empty bins: a small range uses one per object.
-      const int nb = std::min(bins, static_cast<int>(task.end - task.begin));
-      Real scale[3];
-      for (int k = 0; k < 3; ++k)
-        scale[k] = hi[k] > lo[k] ? nb / (hi[k] - lo[k]) : 0;
-      const auto bin_of = [&](const TreeBox& b, int k) {
-        return std::min(nb - 1, static_cast<int>((b.min[k] + b.max[k] - lo[k]) * scale[k]));
-      };
-      std::int32_t count[3][bins] = {};
-      TreeBox box[3][bins];
-      for (int k = 0; k < 3; ++k)
-        std::fill(box[k], box[k] + nb, empty_box);
-      for (std::int32_t i = task.begin; i < task.end; ++i) {
-        const TreeBox& b = refs[i].box;
-        for (int k = 0; k < 3; ++k) {
-          const int j = bin_of(b, k);
-          ++count[k][j];
-          box[k][j] = TreeBox::merge(box[k][j], b);
-        }
-      }
-      int best_axis = -1;
-      int best_split = 0;
-      Real best_cost = inf;
-      for (int k = 0; k < 3; ++k) {
-        if (scale[k] == 0)
-          continue;
-        Real right_area[bins];
-        std::int32_t right_count[bins];
-        TreeBox acc = empty_box;
-        std::int32_t cnt = 0;
-        for (int b = nb - 1; b > 0; --b) {
-          acc = TreeBox::merge(acc, box[k][b]);
-          cnt += count[k][b];
-          right_area[b] = cnt > 0 ? acc.half_area() : 0;
-          right_count[b] = cnt;
-        }
-        acc = empty_box;
-        cnt = 0;
-        for (int b = 1; b < nb; ++b) {
-          acc = TreeBox::merge(acc, box[k][b - 1]);
-          cnt += count[k][b - 1];
-          if (cnt == 0 || right_count[b] == 0)
-            continue;
-          const Real cost = acc.half_area() * cnt + right_area[b] * right_count[b];
-          if (cost < best_cost) {
-            best_cost = cost;
-            best_axis = k;
-            best_split = b;
-          }
-        }
-      }
-      std::int32_t mid;
-      if (best_axis < 0) {
-        mid = task.begin + (task.end - task.begin) / 2;
-      } else {
-        const auto it = std::partition(
-            refs.begin() + task.begin, refs.begin() + task.end,
-            [&](const BuildScratch::Ref& r) { return bin_of(r.box, best_axis) < best_split; });
-        mid = static_cast<std::int32_t>(it - refs.begin());
-      }
+      const detail::BinnedSplit split = detail::binned_sah_split(refs.data(), task.begin, task.end);
+      const TreeBox& bounds = split.bounds;
+      const std::int32_t mid = split.mid;
       Node& node = out.nodes[task.node];
       node.box = bounds;
       if (mid - task.begin == 1) {
