@@ -15,8 +15,8 @@ using grid_detail::largest_extent;
 
 namespace {
 
-constexpr int kHomeBits = 3;
-constexpr std::uint32_t kHomeMask = 7;
+using grid_detail::kHomeBits;
+using grid_detail::kHomeMask;
 
 // Cell coordinates are clamped to +-2^30 so that they and their neighbours fit an int32 (their
 // differences need 64 bits or a Real). The clamp is monotone, so the lower-corner rule still
@@ -316,27 +316,8 @@ void HierarchicalGridBroadPhase::pairs_same_level() {
           fixed_end = fixed_grid_.cell(fc).end;
         }
       }
-      for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
-        const std::uint32_t ea = entries[i];
-        const std::uint32_t need = ~ea & kHomeMask;
-        const GridProxy& a = moving[ea >> kHomeBits];
-        for (std::uint32_t j = i + 1; j < cell.end; ++j) {
-          const std::uint32_t eb = entries[j];
-          if ((eb & need) != need)
-            continue;
-          const GridProxy& b = moving[eb >> kHomeBits];
-          if (a.box.overlaps(b.box))
-            sorter_.emit(a.id, b.id);
-        }
-        for (std::uint32_t j = fixed_begin; j < fixed_end; ++j) {
-          const std::uint32_t eb = fixed_entries[j];
-          if ((eb & need) != need)
-            continue;
-          const GridProxy& b = fixed[eb >> kHomeBits];
-          if (a.box.overlaps(b.box))
-            sorter_.emit(a.id, b.id);
-        }
-      }
+      grid_detail::pairs_in_cell(entries, cell.begin, cell.end, fixed_entries, fixed_begin,
+                                 fixed_end, moving, fixed, sorter_);
     }
   }
 }

@@ -541,27 +541,8 @@ void UniformGridBroadPhase::pairs_in_cells() {
     const std::uint32_t end = moving_range_[c].end;
     const std::uint32_t fixed_begin = any_fixed ? fixed_start_[c] : 0;
     const std::uint32_t fixed_end = any_fixed ? fixed_start_[c + 1] : 0;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t ea = entries[i];
-      const std::uint32_t need = ~ea & kHomeMask;  // axes where a does not start here
-      const GridProxy& a = moving[ea >> kHomeBits];
-      for (std::uint32_t j = i + 1; j < end; ++j) {
-        const std::uint32_t eb = entries[j];
-        if ((eb & need) != need)
-          continue;
-        const GridProxy& b = moving[eb >> kHomeBits];
-        if (a.box.overlaps(b.box))
-          sorter_.emit(a.id, b.id);
-      }
-      for (std::uint32_t j = fixed_begin; j < fixed_end; ++j) {
-        const std::uint32_t eb = fixed_entries[j];
-        if ((eb & need) != need)
-          continue;
-        const GridProxy& b = fixed[eb >> kHomeBits];
-        if (a.box.overlaps(b.box))
-          sorter_.emit(a.id, b.id);
-      }
-    }
+    grid_detail::pairs_in_cell(entries, begin, end, fixed_entries, fixed_begin, fixed_end, moving,
+                               fixed, sorter_);
   }
 }
 

@@ -193,6 +193,42 @@ class PairSorter {
   bool dense_ = false;
 };
 
+// A cell's list entry: the proxy's slot above kHomeBits bits telling on which axes this cell is
+// the proxy's lowest (after Le Grand's home and phantom cells, GPU Gems 3, ch. 32, 2007).
+inline constexpr int kHomeBits = 3;
+inline constexpr std::uint32_t kHomeMask = 7;
+
+// The pairs of one cell: each dynamic entry of [begin, end) with the later dynamic entries and
+// with the static entries [fixed_begin, fixed_end). A pair is reported only in the one cell
+// where, on every axis, at least one of the two boxes starts, so a pair that shares several
+// cells is found once.
+inline void pairs_in_cell(const std::uint32_t* entries, std::uint32_t begin, std::uint32_t end,
+                          const std::uint32_t* fixed_entries, std::uint32_t fixed_begin,
+                          std::uint32_t fixed_end, const GridProxy* moving, const GridProxy* fixed,
+                          PairSorter& sorter) {
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const std::uint32_t ea = entries[i];
+    const std::uint32_t need = ~ea & kHomeMask;  // axes where a does not start here
+    const GridProxy& a = moving[ea >> kHomeBits];
+    for (std::uint32_t j = i + 1; j < end; ++j) {
+      const std::uint32_t eb = entries[j];
+      if ((eb & need) != need)
+        continue;
+      const GridProxy& b = moving[eb >> kHomeBits];
+      if (a.box.overlaps(b.box))
+        sorter.emit(a.id, b.id);
+    }
+    for (std::uint32_t j = fixed_begin; j < fixed_end; ++j) {
+      const std::uint32_t eb = fixed_entries[j];
+      if ((eb & need) != need)
+        continue;
+      const GridProxy& b = fixed[eb >> kHomeBits];
+      if (a.box.overlaps(b.box))
+        sorter.emit(a.id, b.id);
+    }
+  }
+}
+
 // Sorts ids ascending and drops duplicates (ray casts find a proxy once per cell).
 void sort_unique(std::vector<std::int32_t>& ids);
 
@@ -305,10 +341,8 @@ class UniformGridBroadPhase final : public BroadPhase {
   void build_moving();
   void pairs_in_cells();
   void pairs_with_oversized();
-  // A cell entry: the proxy's slot, and 3 bits telling on which axes this cell is the proxy's
-  // lowest (after Le Grand's home and phantom cells, GPU Gems 3, ch. 32, 2007).
-  static constexpr int kHomeBits = 3;
-  static constexpr std::uint32_t kHomeMask = 7;
+  // A cell entry (grid_detail::kHomeBits).
+  static constexpr int kHomeBits = grid_detail::kHomeBits;
   static std::uint32_t entry(std::size_t slot, const std::array<std::int32_t, 3>& lo,
                              std::int32_t x, std::int32_t y, std::int32_t z) {
     return static_cast<std::uint32_t>(slot) << kHomeBits | static_cast<std::uint32_t>(x == lo[0]) |
