@@ -56,6 +56,11 @@ struct Material {
   std::string name;
   Real friction = Real(0.5);  // Coulomb coefficient [1]
   Real restitution = 0;       // [1], 0 = plastic, 1 = elastic
+  // Penalty solver only (docs/stability.md): the contact spring and damper of a pair, the
+  // smaller stiffness and the larger damping of the two materials, shared among the manifold's
+  // points.
+  Real stiffness = 1e6;  // k [N/m]
+  Real damping = 1e3;    // c [N s/m]
 };
 
 struct BodyDesc {

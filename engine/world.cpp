@@ -47,6 +47,20 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   speculative_margin_.resize(n);
   shape_poses_.resize(n);
   broad_phase_type_ = choose_broad_phase(scene_->world.broadphase, *scene_);
+  penalty_substeps_ = std::max(1, scene_->world.substeps);
+  if (scene_->world.solver == SolverType::penalty) {
+    Real stiffest = 0;
+    for (const Material& m : scene_->materials)
+      stiffest = std::max(stiffest, m.stiffness);
+    Real lightest = 0;
+    for (const BodyMass& m : masses_)
+      lightest = std::max(lightest, m.inverse_mass);
+    // omega = sqrt(k / m); explicit symplectic Euler needs h omega < 2.
+    const Real omega = std::sqrt(stiffest * lightest);
+    const Real wanted = std::ceil(scene_->world.dt * omega / 2);
+    if (wanted > penalty_substeps_)
+      penalty_substeps_ = static_cast<int>(std::min<Real>(wanted, kMaxPenaltySubsteps));
+  }
   set_state(initial_state(*scene_));
 }
 
@@ -71,6 +85,10 @@ void World::rebuild_broad_phase() {
 void World::step() {
   current_ = StepStatistics{};
   const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    step_penalty(w.dt);
+    return;
+  }
   const int substeps = std::max(1, w.substeps);
   const Real h = w.dt / substeps;
 
@@ -89,6 +107,45 @@ void World::step() {
 
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
+  state_.time = static_cast<Real>(state_.step) * w.dt;
+  current_.state_hash = state_hash(state_);
+  last_step_ = current_;
+}
+
+// The penalty solver runs through the same stages: collision once, then substeps of gravity,
+// warm start, implicit spring-damper passes and positions. There is no relax pass (the spring
+// is the physics, not a correction to remove) and no restitution step (the damper sets it).
+void World::step_penalty(Real dt) {
+  const WorldSettings& w = scene_->world;
+  const int substeps = penalty_substeps_;
+  const Real h = dt / substeps;
+  update_bounds(dt);
+  find_candidate_pairs();
+  collide_candidate_pairs();
+  {
+    StageTimer timer(current_, Stage::solve);
+    PenaltySolverSettings settings;
+    settings.substep = h;
+    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
+                            settings);
+    current_.contact_points += penalty_solver_.point_count();
+  }
+  for (int s = 0; s < substeps; ++s) {
+    integrate_velocities(h);
+    {
+      StageTimer timer(current_, Stage::solve);
+      penalty_solver_.warm_start(state_.bodies);
+      for (int it = 0; it < w.iterations; ++it)
+        penalty_solver_.solve(state_.bodies);
+      current_.solver_iterations += w.iterations;
+    }
+    integrate_positions(h);
+  }
+  {
+    StageTimer timer(current_, Stage::solve);
+    penalty_solver_.store(state_.contacts);
+  }
+  state_.step += 1;
   state_.time = static_cast<Real>(state_.step) * w.dt;
   current_.state_hash = state_hash(state_);
   last_step_ = current_;
@@ -134,6 +191,7 @@ void World::find_candidate_pairs() {
 void World::collide_candidate_pairs() {
   StageTimer timer(current_, Stage::narrow_phase);
   contacts_.clear();
+  penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
   const auto& materials = scene_->materials;
   for (const ProxyPair& pair : candidate_pairs_) {
@@ -158,6 +216,10 @@ void World::collide_candidate_pairs() {
         std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
                  b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
     contacts_.push_back(pc);
+    // The softer material sets the spring, the more damped one the damper: a rubber ball on
+    // steel deforms like rubber.
+    penalty_springs_.push_back(
+        PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
   }
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
 }

@@ -8,6 +8,7 @@
 #include "collision/broad_phase.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
+#include "dynamics/penalty_solver.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -37,6 +38,12 @@ class World {
   Real kinetic_energy() const;
   Real potential_energy() const;
 
+  // Substeps per step of the penalty solver: the scene's `substeps`, raised so that the stiffest
+  // spring on the lightest body is resolved (h < 2 / omega, the explicit stability limit) while
+  // that costs at most kMaxPenaltySubsteps; beyond, the implicit update alone keeps it stable.
+  int penalty_substeps() const { return penalty_substeps_; }
+  static constexpr int kMaxPenaltySubsteps = 64;
+
  private:
   void update_bounds(Real dt);
   void find_candidate_pairs();
@@ -48,6 +55,7 @@ class World {
   void apply_restitution();
   void finish_contacts();
   void rebuild_broad_phase();
+  void step_penalty(Real dt);
 
   std::shared_ptr<const Scene> scene_;
   State state_;
@@ -65,6 +73,9 @@ class World {
   std::vector<ProxyPair> candidate_pairs_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
+  PenaltySolver penalty_solver_;
+  std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
+  int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
 
   StepStatistics current_;
   StepStatistics last_step_;
