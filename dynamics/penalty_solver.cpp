@@ -70,6 +70,20 @@ void PenaltySolver::prepare(std::span<const PairContact> contacts,
       p.local_a = bodies[a].orientation.conjugate() * p.r_a;
       p.local_b = bodies[b].orientation.conjugate() * p.r_b;
       p.base_separation = -cp.depth;
+      p.rn_a = p.r_a.cross(normal);
+      p.rn_b = p.r_b.cross(normal);
+      p.rt1_a = p.r_a.cross(t1);
+      p.rt1_b = p.r_b.cross(t1);
+      p.rt2_a = p.r_a.cross(t2);
+      p.rt2_b = p.r_b.cross(t2);
+      p.in_a = ia * p.rn_a;
+      p.in_b = ib * p.rn_b;
+      p.it1_a = ia * p.rt1_a;
+      p.it1_b = ib * p.rt1_b;
+      p.it2_a = ia * p.rt2_a;
+      p.it2_b = ib * p.rt2_b;
+      p.inv_mass_a = inverse_mass_[a];
+      p.inv_mass_b = inverse_mass_[b];
       p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
       p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
       p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
@@ -103,13 +117,6 @@ void PenaltySolver::prepare(std::span<const PairContact> contacts,
   }
 }
 
-Vec3 PenaltySolver::relative_velocity(const Point& p, std::span<const BodyState> bodies) const {
-  const BodyState& a = bodies[p.a];
-  const BodyState& b = bodies[p.b];
-  return a.velocity + a.angular_velocity.cross(p.r_a) - b.velocity -
-         b.angular_velocity.cross(p.r_b);
-}
-
 Real PenaltySolver::separation(const Point& p, std::span<const BodyState> bodies) const {
   const BodyState& a = bodies[p.a];
   const BodyState& b = bodies[p.b];
@@ -118,22 +125,24 @@ Real PenaltySolver::separation(const Point& p, std::span<const BodyState> bodies
   return p.base_separation + (anchor_a - anchor_b).dot(p.normal);
 }
 
-void PenaltySolver::apply_impulse(const Point& p, const Vec3& impulse,
-                                  std::span<BodyState> bodies) const {
+void PenaltySolver::apply(const Point& p, Real normal, Real tangent1, Real tangent2,
+                          std::span<BodyState> bodies) {
   BodyState& a = bodies[p.a];
   BodyState& b = bodies[p.b];
-  a.velocity += inverse_mass_[p.a] * impulse;
-  a.angular_velocity += inverse_inertia_world_[p.a] * p.r_a.cross(impulse);
-  b.velocity -= inverse_mass_[p.b] * impulse;
-  b.angular_velocity -= inverse_inertia_world_[p.b] * p.r_b.cross(impulse);
+  const Vec3 linear = normal * p.normal + tangent1 * p.tangent1 + tangent2 * p.tangent2;
+  const Vec3 angular_a = normal * p.in_a + tangent1 * p.it1_a + tangent2 * p.it2_a;
+  const Vec3 angular_b = normal * p.in_b + tangent1 * p.it1_b + tangent2 * p.it2_b;
+  a.velocity += p.inv_mass_a * linear;
+  a.angular_velocity += angular_a;
+  b.velocity -= p.inv_mass_b * linear;
+  b.angular_velocity -= angular_b;
 }
 
-void PenaltySolver::warm_start(std::span<BodyState> bodies) const {
-  for (const Point& p : points_) {
-    const Vec3 impulse = p.normal * p.normal_impulse + p.tangent1 * p.tangent_impulse1 +
-                         p.tangent2 * p.tangent_impulse2;
-    apply_impulse(p, impulse, bodies);
-  }
+void PenaltySolver::begin_substep(std::span<BodyState> bodies) {
+  for (Point& p : points_)
+    p.substep_separation = separation(p, bodies);
+  for (const Point& p : points_)
+    apply(p, p.normal_impulse, p.tangent_impulse1, p.tangent_impulse2, bodies);
 }
 
 // Row updates of projected Gauss-Seidel on the implicit substep. With the accumulated impulse
@@ -141,14 +150,19 @@ void PenaltySolver::warm_start(std::span<BodyState> bodies) const {
 // impulse satisfies lambda' = h (-k phi - (h k + c) (v_n + (lambda' - lambda) / m_eff)), so
 //   lambda' = (h (-k phi - (h k + c) v_n) + g lambda) / (1 + g),   g = h (h k + c) / m_eff,
 // clamped at 0 (a spring pushes, never pulls). phi is the separation at the substep's start.
-void PenaltySolver::solve(std::span<BodyState> bodies) {
+Real PenaltySolver::solve(std::span<BodyState> bodies) {
   const Real h = settings_.substep;
+  Real largest_change = 0;
+  Real largest_impulse = 0;
   const Real v_reg = settings_.friction_regularisation_speed;
   for (const PairInfo& pair : pairs_) {
     const std::span<Point> points = std::span(points_).subspan(pair.first_point, pair.count);
     for (Point& p : points) {
-      const Real phi = separation(p, bodies);
-      const Real vn = relative_velocity(p, bodies).dot(p.normal);
+      const Real phi = p.substep_separation;
+      const BodyState& a = bodies[p.a];
+      const BodyState& b = bodies[p.b];
+      const Real vn = p.normal.dot(a.velocity - b.velocity) + p.rn_a.dot(a.angular_velocity) -
+                      p.rn_b.dot(b.angular_velocity);
       Real target = 0;
       if (phi < 0 || p.normal_impulse > 0) {
         // The spring acts only while the surfaces overlap; phi is the start-of-substep value,
@@ -162,34 +176,41 @@ void PenaltySolver::solve(std::span<BodyState> bodies) {
       const Real new_impulse = std::max(target, Real(0));
       const Real applied = new_impulse - p.normal_impulse;
       p.normal_impulse = new_impulse;
-      apply_impulse(p, p.normal * applied, bodies);
+      largest_change = std::max(largest_change, std::abs(applied));
+      largest_impulse = std::max(largest_impulse, new_impulse);
+      apply(p, applied, 0, 0, bodies);
     }
-    // Regularised Coulomb friction, implicit as well: the viscous coefficient b = mu lambda_n /
+    // Regularised Coulomb friction, implicit as well: the viscous coefficient mu lambda_n /
     // v_reg acts on the end-of-substep sliding velocity, then the impulse is clamped to the
     // disc mu lambda_n.
     for (Point& p : points) {
-      const Vec3 v = relative_velocity(p, bodies);
+      const BodyState& a = bodies[p.a];
+      const BodyState& b = bodies[p.b];
+      const Vec3 dv = a.velocity - b.velocity;
+      const Real slip1 =
+          p.tangent1.dot(dv) + p.rt1_a.dot(a.angular_velocity) - p.rt1_b.dot(b.angular_velocity);
+      const Real slip2 =
+          p.tangent2.dot(dv) + p.rt2_a.dot(a.angular_velocity) - p.rt2_b.dot(b.angular_velocity);
       const Real bound = p.friction * p.normal_impulse;
-      const Real b = bound / v_reg;
+      const Real viscosity = bound / v_reg;
       auto row = [&](Real impulse, Real slip, Real mass) {
-        const Real g = mass > 0 ? b / mass : Real(0);
-        return (-b * slip + g * impulse) / (1 + g);
+        const Real g = mass > 0 ? viscosity / mass : Real(0);
+        return (-viscosity * slip + g * impulse) / (1 + g);
       };
-      Real new1 = row(p.tangent_impulse1, v.dot(p.tangent1), p.tangent_mass1);
-      Real new2 = row(p.tangent_impulse2, v.dot(p.tangent2), p.tangent_mass2);
+      Real new1 = row(p.tangent_impulse1, slip1, p.tangent_mass1);
+      Real new2 = row(p.tangent_impulse2, slip2, p.tangent_mass2);
       const Real magnitude = std::sqrt(new1 * new1 + new2 * new2);
       if (magnitude > bound) {
         const Real scale = magnitude > 0 ? bound / magnitude : Real(0);
         new1 *= scale;
         new2 *= scale;
       }
-      const Vec3 impulse =
-          p.tangent1 * (new1 - p.tangent_impulse1) + p.tangent2 * (new2 - p.tangent_impulse2);
+      apply(p, 0, new1 - p.tangent_impulse1, new2 - p.tangent_impulse2, bodies);
       p.tangent_impulse1 = new1;
       p.tangent_impulse2 = new2;
-      apply_impulse(p, impulse, bodies);
     }
   }
+  return largest_impulse > 0 ? largest_change / largest_impulse : Real(0);
 }
 
 void PenaltySolver::store(std::vector<CachedManifold>& cache) const {

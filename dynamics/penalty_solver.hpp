@@ -36,6 +36,13 @@ struct PenaltySolverSettings {
   // Sliding speed at which friction reaches its Coulomb bound; slower sliding sees a viscous
   // force proportional to speed. Small: it is the creep speed scale of a loaded contact. [m/s]
   Real friction_regularisation_speed = Real(1e-3);
+  // Passes per substep: at least `min_iterations`, then until a pass changes no normal
+  // impulse by more than `tolerance` of the largest, at most `max_iterations`. An unconverged
+  // pass is not the implicit step: one Gauss-Seidel pass per substep on a 20-box tower at
+  // k h^2 / m ~ 1 gains energy and topples it (docs/stability.md).
+  int min_iterations = 1;
+  int max_iterations = 64;
+  Real tolerance = Real(1e-3);
 };
 
 // Spring and damper of a contact pair, combined from the two materials.
@@ -50,13 +57,17 @@ class PenaltySolver {
   void prepare(std::span<const PairContact> contacts, std::span<const PenaltyPair> springs,
                std::span<const CachedManifold> previous, std::span<const BodyState> bodies,
                std::span<const BodyMass> masses, const PenaltySolverSettings& settings);
-  // Applies the accumulated impulses (start of every substep).
-  void warm_start(std::span<BodyState> bodies) const;
-  // One Gauss-Seidel pass on the implicit spring-damper system of this substep.
-  void solve(std::span<BodyState> bodies);
+  // Start of every substep: measures each point's separation (the poses do not change during
+  // the substep's passes) and applies the accumulated impulses.
+  void begin_substep(std::span<BodyState> bodies);
+  // One Gauss-Seidel pass on the implicit spring-damper system of this substep. Returns the
+  // largest change of a normal impulse in the pass relative to the largest normal impulse, the
+  // measure of convergence the stepper iterates on.
+  Real solve(std::span<BodyState> bodies);
   void store(std::vector<CachedManifold>& cache) const;
 
   int point_count() const { return static_cast<int>(points_.size()); }
+  const PenaltySolverSettings& settings() const { return settings_; }
 
  private:
   struct Point {
@@ -71,6 +82,15 @@ class PenaltySolver {
     Vec3 local_a = Vec3::Zero();
     Vec3 local_b = Vec3::Zero();
     Real base_separation = 0;
+    Real substep_separation = 0;  // phi at the start of the current substep [m]
+    // Precomputed Jacobian rows, as in ContactSolver: r x d and I^-1 (r x d) per direction.
+    Vec3 rn_a = Vec3::Zero(), rn_b = Vec3::Zero();
+    Vec3 rt1_a = Vec3::Zero(), rt1_b = Vec3::Zero();
+    Vec3 rt2_a = Vec3::Zero(), rt2_b = Vec3::Zero();
+    Vec3 in_a = Vec3::Zero(), in_b = Vec3::Zero();
+    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
+    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
+    Real inv_mass_a = 0, inv_mass_b = 0;
     Real normal_mass = 0;
     Real tangent_mass1 = 0;
     Real tangent_mass2 = 0;
@@ -86,9 +106,9 @@ class PenaltySolver {
     std::int32_t count = 0;
   };
 
-  Vec3 relative_velocity(const Point& p, std::span<const BodyState> bodies) const;
   Real separation(const Point& p, std::span<const BodyState> bodies) const;
-  void apply_impulse(const Point& p, const Vec3& impulse, std::span<BodyState> bodies) const;
+  static void apply(const Point& p, Real normal, Real tangent1, Real tangent2,
+                    std::span<BodyState> bodies);
 
   PenaltySolverSettings settings_;
   std::vector<Point> points_;

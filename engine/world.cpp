@@ -126,6 +126,8 @@ void World::step_penalty(Real dt) {
     StageTimer timer(current_, Stage::solve);
     PenaltySolverSettings settings;
     settings.substep = h;
+    settings.min_iterations = w.iterations;
+    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
     penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
                             settings);
     current_.contact_points += penalty_solver_.point_count();
@@ -134,10 +136,14 @@ void World::step_penalty(Real dt) {
     integrate_velocities(h);
     {
       StageTimer timer(current_, Stage::solve);
-      penalty_solver_.warm_start(state_.bodies);
-      for (int it = 0; it < w.iterations; ++it)
-        penalty_solver_.solve(state_.bodies);
-      current_.solver_iterations += w.iterations;
+      penalty_solver_.begin_substep(state_.bodies);
+      const PenaltySolverSettings& settings = penalty_solver_.settings();
+      for (int it = 0; it < settings.max_iterations; ++it) {
+        const Real change = penalty_solver_.solve(state_.bodies);
+        current_.solver_iterations += 1;
+        if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
+          break;
+      }
     }
     integrate_positions(h);
   }

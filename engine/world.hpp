@@ -43,6 +43,9 @@ class World {
   // that costs at most kMaxPenaltySubsteps; beyond, the implicit update alone keeps it stable.
   int penalty_substeps() const { return penalty_substeps_; }
   static constexpr int kMaxPenaltySubsteps = 64;
+  // The penalty solver iterates each substep to convergence, at most this many passes (or the
+  // scene's `iterations` when larger).
+  static constexpr int kMaxPenaltyIterations = 64;
 
  private:
   void update_bounds(Real dt);
