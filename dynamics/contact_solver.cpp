@@ -256,6 +256,33 @@ void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
   }
 }
 
+int ContactSolver::resolve_impacts(std::span<BodyState> bodies) {
+  const Real h = settings_.substep;
+  int bounces = 0;
+  // Each sweep can pass the impact one pair further along a chain whose pairs are listed in
+  // the opposite order; a point bounces at most once, so the number of points bounds the sweeps.
+  const std::size_t max_sweeps = points_.size() + 1;
+  for (std::size_t sweep = 0; sweep < max_sweeps; ++sweep) {
+    bool any = false;
+    for (Point& p : points_) {
+      if (p.restitution == 0 || p.bounced)
+        continue;
+      const Real vn = normal_velocity(p, bodies);
+      if (vn > -settings_.restitution_threshold || separation(p, bodies) + vn * h > 0)
+        continue;
+      p.bounced = true;
+      p.touched = true;
+      p.impact_velocity = vn;
+      apply_normal(p, -p.normal_mass * (1 + p.restitution) * vn, bodies);
+      any = true;
+      ++bounces;
+    }
+    if (!any)
+      break;
+  }
+  return bounces;
+}
+
 // Called after each substep's relax pass. A point whose first push in this step met an
 // approach faster than the threshold leaves with -e times that impact velocity, once per step.
 // Bouncing in the substep of impact, not at the end of the step, keeps the bounce's timing

@@ -59,7 +59,15 @@ class ContactSolver {
   // One Gauss-Seidel pass. With `use_bias`, penetration is pushed out by the soft spring;
   // without (the relax pass), the constraint is rigid and removes the push-out velocity.
   void solve(std::span<BodyState> bodies, bool use_bias);
-  // After each substep's relax pass.
+  // Before each substep's soft passes: points that approach faster than the restitution
+  // threshold and whose gap closes within the substep bounce now, one pair at a time, in
+  // sweeps until no such point is left (each point at most once per step). Resolving impacts
+  // pairwise and in sequence, before the inelastic passes can spread the impact over every
+  // touching body, is what lets momentum pass down a row of touching bodies (Newton's cradle);
+  // each pairwise bounce with e <= 1 can only remove energy. Returns the bounces made.
+  int resolve_impacts(std::span<BodyState> bodies);
+  // After each substep's relax pass: points that met an approach faster than the threshold in
+  // the passes (not caught by resolve_impacts) leave with -e times it.
   void apply_restitution(std::span<BodyState> bodies);
   // Writes the accumulated impulses, for the next step's warm start.
   void store(std::vector<CachedManifold>& cache) const;

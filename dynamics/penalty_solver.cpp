@@ -153,7 +153,6 @@ void PenaltySolver::begin_substep(std::span<BodyState> bodies) {
 Real PenaltySolver::solve(std::span<BodyState> bodies) {
   const Real h = settings_.substep;
   Real largest_change = 0;
-  Real largest_impulse = 0;
   const Real v_reg = settings_.friction_regularisation_speed;
   for (const PairInfo& pair : pairs_) {
     const std::span<Point> points = std::span(points_).subspan(pair.first_point, pair.count);
@@ -176,8 +175,8 @@ Real PenaltySolver::solve(std::span<BodyState> bodies) {
       const Real new_impulse = std::max(target, Real(0));
       const Real applied = new_impulse - p.normal_impulse;
       p.normal_impulse = new_impulse;
-      largest_change = std::max(largest_change, std::abs(applied));
-      largest_impulse = std::max(largest_impulse, new_impulse);
+      if (p.normal_mass > 0)
+        largest_change = std::max(largest_change, std::abs(applied) / p.normal_mass);
       apply(p, applied, 0, 0, bodies);
     }
     // Regularised Coulomb friction, implicit as well: the viscous coefficient mu lambda_n /
@@ -210,7 +209,7 @@ Real PenaltySolver::solve(std::span<BodyState> bodies) {
       p.tangent_impulse2 = new2;
     }
   }
-  return largest_impulse > 0 ? largest_change / largest_impulse : Real(0);
+  return largest_change;
 }
 
 void PenaltySolver::store(std::vector<CachedManifold>& cache) const {

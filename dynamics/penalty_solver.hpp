@@ -36,13 +36,15 @@ struct PenaltySolverSettings {
   // Sliding speed at which friction reaches its Coulomb bound; slower sliding sees a viscous
   // force proportional to speed. Small: it is the creep speed scale of a loaded contact. [m/s]
   Real friction_regularisation_speed = Real(1e-3);
-  // Passes per substep: at least `min_iterations`, then until a pass changes no normal
-  // impulse by more than `tolerance` of the largest, at most `max_iterations`. An unconverged
-  // pass is not the implicit step: one Gauss-Seidel pass per substep on a 20-box tower at
-  // k h^2 / m ~ 1 gains energy and topples it (docs/stability.md).
+  // Passes per substep: at least `min_iterations`, then until a pass changes no point's normal
+  // velocity by more than `tolerance` (its impulse change over its effective mass), at most
+  // `max_iterations`. An unconverged pass is not the implicit step: one Gauss-Seidel pass per
+  // substep on a 20-box tower at k h^2 / m ~ 1 gains energy and topples it, and a tolerance
+  // relative to the largest impulse leaves the light box of a 1:1000 stack unconverged and
+  // tilting (docs/stability.md). A velocity is comparable across mass ratios. [m/s]
   int min_iterations = 1;
   int max_iterations = 64;
-  Real tolerance = Real(1e-3);
+  Real tolerance = Real(1e-5);
 };
 
 // Spring and damper of a contact pair, combined from the two materials.
@@ -61,8 +63,8 @@ class PenaltySolver {
   // the substep's passes) and applies the accumulated impulses.
   void begin_substep(std::span<BodyState> bodies);
   // One Gauss-Seidel pass on the implicit spring-damper system of this substep. Returns the
-  // largest change of a normal impulse in the pass relative to the largest normal impulse, the
-  // measure of convergence the stepper iterates on.
+  // largest change of a point's normal velocity that the pass made [m/s], the measure of
+  // convergence the stepper iterates on.
   Real solve(std::span<BodyState> bodies);
   void store(std::vector<CachedManifold>& cache) const;
 

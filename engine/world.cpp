@@ -247,8 +247,10 @@ void World::prepare_contacts(Real h) {
 
 void World::solve_contacts(bool use_bias, int passes) {
   StageTimer timer(current_, Stage::solve);
-  if (use_bias)
+  if (use_bias) {
     solver_.warm_start(state_.bodies);
+    solver_.resolve_impacts(state_.bodies);
+  }
   for (int it = 0; it < passes; ++it)
     solver_.solve(state_.bodies, use_bias);
   current_.solver_iterations += passes;
