@@ -49,6 +49,13 @@ struct WorldSettings {
   Real max_push_velocity = 3;
   // Approach speeds below this bounce with no restitution, so resting bodies do not jitter. [m/s]
   Real restitution_threshold = Real(0.2);
+  // Sleeping: an island (bodies connected by contacts) whose bodies have all moved slower than
+  // `sleep_speed` (|v| + |w| r, r the bounding radius) for `sleep_time` stops being solved and
+  // integrated until an awake body touches it. Off by default: results then never depend on
+  // it, and benchmarks measure the full work (docs/stability.md).
+  bool sleeping = false;
+  Real sleep_speed = Real(0.05);  // m/s
+  Real sleep_time = Real(0.5);    // s
 };
 
 // Contact material. Pairs combine friction by the geometric mean and restitution by the maximum.

@@ -9,6 +9,7 @@
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
 #include "dynamics/penalty_solver.hpp"
+#include "engine/islands.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -59,6 +60,8 @@ class World {
   void finish_contacts();
   void rebuild_broad_phase();
   void step_penalty(Real dt);
+  void wake_touched_islands();
+  void update_sleep(Real dt);
 
   std::shared_ptr<const Scene> scene_;
   State state_;
@@ -79,6 +82,9 @@ class World {
   PenaltySolver penalty_solver_;
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
+  Islands islands_;
+  std::vector<std::uint8_t> island_awake_;  // per root body
+  std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
 
   StepStatistics current_;
   StepStatistics last_step_;

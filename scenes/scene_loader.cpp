@@ -143,10 +143,11 @@ constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 1
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
 // clang-format off
-constexpr std::array<std::string_view, 16> kWorldKeys{
+constexpr std::array<std::string_view, 19> kWorldKeys{
     "gravity", "dt", "duration", "steps", "substeps", "solver", "iterations",
     "relax_iterations", "broadphase", "ccd", "contact_margin", "penetration_slop",
-    "contact_hertz", "contact_damping_ratio", "max_push_velocity", "restitution_threshold"};
+    "contact_hertz", "contact_damping_ratio", "max_push_velocity", "restitution_threshold",
+    "sleeping", "sleep_speed", "sleep_time"};
 // clang-format on
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
@@ -802,6 +803,15 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
   }
   if (const Entry* x = f.find("restitution_threshold")) {
     w.restitution_threshold = read_real(*x, path("restitution_threshold"), kSpeedThreshold);
+  }
+  if (const Entry* x = f.find("sleeping")) {
+    w.sleeping = read_bool(*x, path("sleeping"));
+  }
+  if (const Entry* x = f.find("sleep_speed")) {
+    w.sleep_speed = read_real(*x, path("sleep_speed"), kPushSpeed);
+  }
+  if (const Entry* x = f.find("sleep_time")) {
+    w.sleep_time = read_real(*x, path("sleep_time"), kDuration);
   }
 }
 

@@ -99,6 +99,11 @@ constexpr Malformed kCases[] = {
     {"static_with_velocity.yaml", 6, "bodies[0].velocity", "a static body never moves"},
     {"inertia_triangle.yaml", 6, "bodies[0].inertia", "triangle inequality"},
     {"bool_yes.yaml", 5, "bodies[0].static", "expected true or false, got yes"},
+    {"sleeping_not_bool.yaml", 3, "world.sleeping", "expected true or false, got 1"},
+    {"zero_sleep_speed.yaml", 4, "world.sleep_speed",
+     "expected a speed in m/s (greater than 0, at most 1e6), got 0"},
+    {"negative_sleep_time.yaml", 4, "world.sleep_time",
+     "expected a duration in seconds (greater than 0, at most 1e9), got -1"},
     {"unknown_solver.yaml", 3, "world.solver", "expected one of: impulse, penalty, got pgs"},
     {"unknown_broadphase.yaml", 3, "world.broadphase",
      "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, kdtree, grid, hgrid, got "
