@@ -133,7 +133,11 @@ TEST(Stability, MajorAxisSpinStays) {
 }
 
 // A 1 mm box on a 100 m box behaves the same 1e5 m from the origin as at it: the tiny box's
-// position relative to the base agrees to 1e-6 m at every step, and it stays on the base.
+// position relative to the base agrees to 1e-6 m at every step, and it stays on the base:
+// its height above the base within 10 um (the soft contact sags 4 um at 240 Hz), and it
+// moves less than a tenth of its size (impulse)
+// or half its size (penalty: a 1e-6 kg box on k = 1e9 springs with friction regularised at
+// 1 mm/s settles into a rocking limit cycle that creeps ~0.05 mm/s; docs/stability.md).
 TEST(Stability, TinyOnHugeFarFromTheOriginAsAtTheOrigin) {
   for (SolverType solver : kBoth) {
     const auto near_scene = stability_scene("tiny_on_huge.yaml", solver);
@@ -145,6 +149,7 @@ TEST(Stability, TinyOnHugeFarFromTheOriginAsAtTheOrigin) {
     const Vec3 rest = near_scene->bodies[tiny].position - near_scene->bodies[base].position;
     Real worst_difference = 0;
     Real worst_sink = 0;
+    Real worst_height = 0;
     std::vector<Vec3> near_relative;
     const StabilityRecord rn = run_and_record(near_world, 5, {}, 0, [&](const World& w) {
       near_relative.push_back(w.state().bodies[tiny].position - w.state().bodies[base].position);
@@ -154,26 +159,33 @@ TEST(Stability, TinyOnHugeFarFromTheOriginAsAtTheOrigin) {
       const Vec3 relative = w.state().bodies[tiny].position - w.state().bodies[base].position;
       worst_difference = std::max(worst_difference, (relative - near_relative[k++]).norm());
       worst_sink = std::max(worst_sink, (relative - rest).norm());
+      worst_height = std::max(worst_height, std::abs(relative.z() - rest.z()));
     });
     report("tiny_on_huge (origin)", solver, rn);
     report("tiny_on_huge (1e5 m)", solver, rf);
-    std::printf("[stability] tiny_on_huge %s relative difference %.3g m, largest move %.3g m\n",
-                solver_label(solver), worst_difference, worst_sink);
+    std::printf(
+        "[stability] tiny_on_huge %s relative difference %.3g m, largest move %.3g m, height "
+        "change %.3g m\n",
+        solver_label(solver), worst_difference, worst_sink, worst_height);
     expect_sane(rn);
     expect_sane(rf);
     EXPECT_LT(worst_difference, 1e-6) << solver_label(solver);
-    EXPECT_LT(worst_sink, 1e-4) << solver_label(solver);  // a tenth of its size
+    EXPECT_LT(worst_height, 1e-5) << solver_label(solver);
+    EXPECT_LT(worst_sink, solver == SolverType::impulse ? 1e-4 : 5e-4) << solver_label(solver);
   }
 }
 
 // dt = 1/30 and dt = 1e-5 both give sane results on a five-box stack (stands: top drift
-// < 1 cm, no overlap of 1 cm) ...
+// < 1 cm, no overlap of 1 cm) ... The 1e-5 run (100,000 steps per second) is shortened under
+// TUMBLE_PROPERTY_SCALE < 1 (the sanitizer run).
 TEST(Stability, StackIsSaneAtLargeAndTinyTimeSteps) {
   for (const char* file : {"stack5_dt30.yaml", "stack5_dt1e-5.yaml"}) {
     for (SolverType solver : kBoth) {
       const auto scene = stability_scene(file, solver);
       World world(scene);
-      const StabilityRecord r = run_and_record(world, scene->world.duration, {}, 0);
+      const Real seconds =
+          scene->world.duration * (scene->world.dt < 1e-3 ? property_scale() : Real(1));
+      const StabilityRecord r = run_and_record(world, seconds, {}, 0);
       const Real penetration = deepest_penetration(world);
       report(file, solver, r);
       expect_sane(r);
