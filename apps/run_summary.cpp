@@ -42,6 +42,8 @@ RunSummary::RunSummary(const Scene& scene, const World& world,
       scene_path_(scene_path),
       steps_(steps),
       broad_phase_used_(world.broad_phase_type()) {
+  substeps_used_ =
+      scene.world.solver == SolverType::penalty ? world.penalty_substeps() : scene.world.substeps;
   initial_kinetic_ = world.kinetic_energy();
   initial_potential_ = world.potential_energy();
 }
@@ -71,6 +73,8 @@ std::string RunSummary::to_json() const {
   json settings = {{"dt", w.dt},
                    {"steps", steps_},
                    {"substeps", w.substeps},
+                   {"substeps_used", substeps_used_},
+                   {"sleeping", w.sleeping},
                    {"solver", solver_name(w.solver)},
                    {"iterations", w.iterations},
                    {"relax_iterations", w.relax_iterations},

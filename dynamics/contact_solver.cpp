@@ -85,6 +85,20 @@ void ContactSolver::prepare(std::span<const PairContact> contacts,
       // Both anchors start at the contact point, so the separation is -depth plus how far the
       // anchors have moved apart along the normal.
       p.base_separation = -cp.depth;
+      p.rn_a = p.r_a.cross(normal);
+      p.rn_b = p.r_b.cross(normal);
+      p.rt1_a = p.r_a.cross(t1);
+      p.rt1_b = p.r_b.cross(t1);
+      p.rt2_a = p.r_a.cross(t2);
+      p.rt2_b = p.r_b.cross(t2);
+      p.in_a = ia * p.rn_a;
+      p.in_b = ib * p.rn_b;
+      p.it1_a = ia * p.rt1_a;
+      p.it1_b = ib * p.rt1_b;
+      p.it2_a = ia * p.rt2_a;
+      p.it2_b = ib * p.rt2_b;
+      p.inv_mass_a = inverse_mass_[a];
+      p.inv_mass_b = inverse_mass_[b];
       p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
       p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
       p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
@@ -143,13 +157,6 @@ void ContactSolver::warm_start_from(const CachedManifold& cached, Real match_dis
   }
 }
 
-Vec3 ContactSolver::relative_velocity(const Point& p, std::span<const BodyState> bodies) const {
-  const BodyState& a = bodies[p.a];
-  const BodyState& b = bodies[p.b];
-  return a.velocity + a.angular_velocity.cross(p.r_a) - b.velocity -
-         b.angular_velocity.cross(p.r_b);
-}
-
 Real ContactSolver::separation(const Point& p, std::span<const BodyState> bodies) const {
   const BodyState& a = bodies[p.a];
   const BodyState& b = bodies[p.b];
@@ -158,21 +165,37 @@ Real ContactSolver::separation(const Point& p, std::span<const BodyState> bodies
   return p.base_separation + (anchor_a - anchor_b).dot(p.normal);
 }
 
-void ContactSolver::apply_impulse(const Point& p, const Vec3& impulse,
-                                  std::span<BodyState> bodies) const {
+Real ContactSolver::normal_velocity(const Point& p, std::span<const BodyState> bodies) {
+  const BodyState& a = bodies[p.a];
+  const BodyState& b = bodies[p.b];
+  return p.normal.dot(a.velocity - b.velocity) + p.rn_a.dot(a.angular_velocity) -
+         p.rn_b.dot(b.angular_velocity);
+}
+
+void ContactSolver::apply_normal(const Point& p, Real impulse, std::span<BodyState> bodies) {
   BodyState& a = bodies[p.a];
   BodyState& b = bodies[p.b];
-  a.velocity += inverse_mass_[p.a] * impulse;
-  a.angular_velocity += inverse_inertia_world_[p.a] * p.r_a.cross(impulse);
-  b.velocity -= inverse_mass_[p.b] * impulse;
-  b.angular_velocity -= inverse_inertia_world_[p.b] * p.r_b.cross(impulse);
+  a.velocity += (p.inv_mass_a * impulse) * p.normal;
+  a.angular_velocity += impulse * p.in_a;
+  b.velocity -= (p.inv_mass_b * impulse) * p.normal;
+  b.angular_velocity -= impulse * p.in_b;
+}
+
+void ContactSolver::apply_tangent(const Point& p, Real impulse1, Real impulse2,
+                                  std::span<BodyState> bodies) {
+  BodyState& a = bodies[p.a];
+  BodyState& b = bodies[p.b];
+  const Vec3 linear = impulse1 * p.tangent1 + impulse2 * p.tangent2;
+  a.velocity += p.inv_mass_a * linear;
+  a.angular_velocity += impulse1 * p.it1_a + impulse2 * p.it2_a;
+  b.velocity -= p.inv_mass_b * linear;
+  b.angular_velocity -= impulse1 * p.it1_b + impulse2 * p.it2_b;
 }
 
 void ContactSolver::warm_start(std::span<BodyState> bodies) const {
   for (const Point& p : points_) {
-    const Vec3 impulse = p.normal * p.normal_impulse + p.tangent1 * p.tangent_impulse1 +
-                         p.tangent2 * p.tangent_impulse2;
-    apply_impulse(p, impulse, bodies);
+    apply_normal(p, p.normal_impulse, bodies);
+    apply_tangent(p, p.tangent_impulse1, p.tangent_impulse2, bodies);
   }
 }
 
@@ -194,7 +217,7 @@ void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
         mass_scale = mass_scale_;
         impulse_scale = impulse_scale_;
       }
-      const Real vn = relative_velocity(p, bodies).dot(p.normal);
+      const Real vn = normal_velocity(p, bodies);
       const Real delta =
           -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
       const Real new_impulse = std::max(p.normal_impulse + delta, Real(0));
@@ -206,13 +229,19 @@ void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
         p.touched = true;
         p.impact_velocity = vn;
       }
-      apply_impulse(p, p.normal * applied, bodies);
+      apply_normal(p, applied, bodies);
     }
     for (Point& p : points) {
-      const Vec3 v = relative_velocity(p, bodies);
+      const BodyState& a = bodies[p.a];
+      const BodyState& b = bodies[p.b];
+      const Vec3 dv = a.velocity - b.velocity;
+      const Real v1 =
+          p.tangent1.dot(dv) + p.rt1_a.dot(a.angular_velocity) - p.rt1_b.dot(b.angular_velocity);
+      const Real v2 =
+          p.tangent2.dot(dv) + p.rt2_a.dot(a.angular_velocity) - p.rt2_b.dot(b.angular_velocity);
       const Real max_friction = p.friction * p.normal_impulse;
-      Real new1 = p.tangent_impulse1 - v.dot(p.tangent1) * p.tangent_mass1;
-      Real new2 = p.tangent_impulse2 - v.dot(p.tangent2) * p.tangent_mass2;
+      Real new1 = p.tangent_impulse1 - v1 * p.tangent_mass1;
+      Real new2 = p.tangent_impulse2 - v2 * p.tangent_mass2;
       const Real magnitude = std::sqrt(new1 * new1 + new2 * new2);
       if (magnitude > max_friction) {
         // Clamp to the friction disc, not a box, so sliding friction is isotropic.
@@ -220,13 +249,38 @@ void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
         new1 *= scale;
         new2 *= scale;
       }
-      const Vec3 impulse =
-          p.tangent1 * (new1 - p.tangent_impulse1) + p.tangent2 * (new2 - p.tangent_impulse2);
+      apply_tangent(p, new1 - p.tangent_impulse1, new2 - p.tangent_impulse2, bodies);
       p.tangent_impulse1 = new1;
       p.tangent_impulse2 = new2;
-      apply_impulse(p, impulse, bodies);
     }
   }
+}
+
+int ContactSolver::resolve_impacts(std::span<BodyState> bodies) {
+  const Real h = settings_.substep;
+  int bounces = 0;
+  // Each sweep can pass the impact one pair further along a chain whose pairs are listed in
+  // the opposite order; a point bounces at most once, so the number of points bounds the sweeps.
+  const std::size_t max_sweeps = points_.size() + 1;
+  for (std::size_t sweep = 0; sweep < max_sweeps; ++sweep) {
+    bool any = false;
+    for (Point& p : points_) {
+      if (p.restitution == 0 || p.bounced)
+        continue;
+      const Real vn = normal_velocity(p, bodies);
+      if (vn > -settings_.restitution_threshold || separation(p, bodies) + vn * h > 0)
+        continue;
+      p.bounced = true;
+      p.touched = true;
+      p.impact_velocity = vn;
+      apply_normal(p, -p.normal_mass * (1 + p.restitution) * vn, bodies);
+      any = true;
+      ++bounces;
+    }
+    if (!any)
+      break;
+  }
+  return bounces;
 }
 
 // Called after each substep's relax pass. A point whose first push in this step met an
@@ -241,10 +295,10 @@ void ContactSolver::apply_restitution(std::span<BodyState> bodies) {
       continue;
     }
     p.bounced = true;
-    const Real vn = relative_velocity(p, bodies).dot(p.normal);
+    const Real vn = normal_velocity(p, bodies);
     const Real impulse = -p.normal_mass * (vn + p.restitution * p.impact_velocity);
     if (impulse > 0)
-      apply_impulse(p, p.normal * impulse, bodies);
+      apply_normal(p, impulse, bodies);
   }
 }
 

@@ -59,7 +59,15 @@ class ContactSolver {
   // One Gauss-Seidel pass. With `use_bias`, penetration is pushed out by the soft spring;
   // without (the relax pass), the constraint is rigid and removes the push-out velocity.
   void solve(std::span<BodyState> bodies, bool use_bias);
-  // After each substep's relax pass.
+  // Before each substep's soft passes: points that approach faster than the restitution
+  // threshold and whose gap closes within the substep bounce now, one pair at a time, in
+  // sweeps until no such point is left (each point at most once per step). Resolving impacts
+  // pairwise and in sequence, before the inelastic passes can spread the impact over every
+  // touching body, is what lets momentum pass down a row of touching bodies (Newton's cradle);
+  // each pairwise bounce with e <= 1 can only remove energy. Returns the bounces made.
+  int resolve_impacts(std::span<BodyState> bodies);
+  // After each substep's relax pass: points that met an approach faster than the threshold in
+  // the passes (not caught by resolve_impacts) leave with -e times it.
   void apply_restitution(std::span<BodyState> bodies);
   // Writes the accumulated impulses, for the next step's warm start.
   void store(std::vector<CachedManifold>& cache) const;
@@ -79,6 +87,17 @@ class ContactSolver {
     Vec3 local_a = Vec3::Zero();  // anchors in each body's frame, to track separation
     Vec3 local_b = Vec3::Zero();
     Real base_separation = 0;  // separation less the anchors' offset along the normal
+    // Jacobian rows precomputed once per step (Catto, GDC 2005): the lever arm crossed with
+    // each direction, and the angular velocity change per unit impulse along it,
+    // I^-1 (r x d), for A and B. They turn every velocity read and impulse into dot products
+    // and scaled additions instead of matrix products.
+    Vec3 rn_a = Vec3::Zero(), rn_b = Vec3::Zero();
+    Vec3 rt1_a = Vec3::Zero(), rt1_b = Vec3::Zero();
+    Vec3 rt2_a = Vec3::Zero(), rt2_b = Vec3::Zero();
+    Vec3 in_a = Vec3::Zero(), in_b = Vec3::Zero();
+    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
+    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
+    Real inv_mass_a = 0, inv_mass_b = 0;
     Real normal_mass = 0;
     Real tangent_mass1 = 0;
     Real tangent_mass2 = 0;
@@ -99,9 +118,12 @@ class ContactSolver {
 
   static void warm_start_from(const CachedManifold& cached, Real match_distance,
                               std::span<Point> points);
-  Vec3 relative_velocity(const Point& p, std::span<const BodyState> bodies) const;
   Real separation(const Point& p, std::span<const BodyState> bodies) const;
-  void apply_impulse(const Point& p, const Vec3& impulse, std::span<BodyState> bodies) const;
+  // Velocity along the normal / a tangent, and an impulse along them, from the precomputed rows.
+  static Real normal_velocity(const Point& p, std::span<const BodyState> bodies);
+  static void apply_normal(const Point& p, Real impulse, std::span<BodyState> bodies);
+  static void apply_tangent(const Point& p, Real impulse1, Real impulse2,
+                            std::span<BodyState> bodies);
 
   ContactSolverSettings settings_;
   // Soft-constraint coefficients for the substep (Catto, Solver2D: bias rate, mass scale,

@@ -49,6 +49,13 @@ struct WorldSettings {
   Real max_push_velocity = 3;
   // Approach speeds below this bounce with no restitution, so resting bodies do not jitter. [m/s]
   Real restitution_threshold = Real(0.2);
+  // Sleeping: an island (bodies connected by contacts) whose bodies have all moved slower than
+  // `sleep_speed` (|v| + |w| r, r the bounding radius) for `sleep_time` stops being solved and
+  // integrated until an awake body touches it. Off by default: results then never depend on
+  // it, and benchmarks measure the full work (docs/stability.md).
+  bool sleeping = false;
+  Real sleep_speed = Real(0.05);  // m/s
+  Real sleep_time = Real(0.5);    // s
 };
 
 // Contact material. Pairs combine friction by the geometric mean and restitution by the maximum.
@@ -56,6 +63,11 @@ struct Material {
   std::string name;
   Real friction = Real(0.5);  // Coulomb coefficient [1]
   Real restitution = 0;       // [1], 0 = plastic, 1 = elastic
+  // Penalty solver only (docs/stability.md): the contact spring and damper of a pair, the
+  // smaller stiffness and the larger damping of the two materials, shared among the manifold's
+  // points.
+  Real stiffness = 1e6;  // k [N/m]
+  Real damping = 1e3;    // c [N s/m]
 };
 
 struct BodyDesc {

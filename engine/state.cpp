@@ -16,6 +16,8 @@ State initial_state(const Scene& scene) {
     b.angular_velocity = d.angular_velocity;
     s.bodies.push_back(b);
   }
+  s.slow_time.assign(scene.bodies.size(), 0);
+  s.asleep.assign(scene.bodies.size(), 0);
   return s;
 }
 
@@ -73,6 +75,11 @@ std::uint64_t state_hash(const State& state) {
       h.add(m.points[k].normal_impulse);
       h.add(m.points[k].friction_impulse);
     }
+  }
+  h.add_u64(state.asleep.size());
+  for (std::size_t i = 0; i < state.asleep.size(); ++i) {
+    h.add_u64(state.asleep[i]);
+    h.add(state.slow_time[i]);
   }
   return h.value();
 }

@@ -16,6 +16,10 @@ struct State {
   std::int64_t step = 0;                 // steps taken
   std::vector<BodyState> bodies;         // one per Scene::bodies entry, same order
   std::vector<CachedManifold> contacts;  // sorted by (body_a, body_b)
+  // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
+  // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
+  std::vector<Real> slow_time;
+  std::vector<std::uint8_t> asleep;
 };
 
 // The state a scene starts in: bodies where the scene puts them, an empty contact cache.

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "collision/broad_phase_factory.hpp"
 #include "collision/narrow_phase.hpp"
@@ -47,11 +48,28 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   speculative_margin_.resize(n);
   shape_poses_.resize(n);
   broad_phase_type_ = choose_broad_phase(scene_->world.broadphase, *scene_);
+  penalty_substeps_ = std::max(1, scene_->world.substeps);
+  if (scene_->world.solver == SolverType::penalty) {
+    Real stiffest = 0;
+    for (const Material& m : scene_->materials)
+      stiffest = std::max(stiffest, m.stiffness);
+    Real lightest = 0;
+    for (const BodyMass& m : masses_)
+      lightest = std::max(lightest, m.inverse_mass);
+    // omega = sqrt(k / m); explicit symplectic Euler needs h omega < 2.
+    const Real omega = std::sqrt(stiffest * lightest);
+    const Real wanted = std::ceil(scene_->world.dt * omega / 2);
+    if (wanted > penalty_substeps_)
+      penalty_substeps_ = static_cast<int>(std::min<Real>(wanted, kMaxPenaltySubsteps));
+  }
   set_state(initial_state(*scene_));
 }
 
 void World::set_state(const State& state) {
   state_ = state;
+  // A state made by hand may leave the sleep records out: nothing sleeps then.
+  state_.slow_time.resize(state_.bodies.size(), 0);
+  state_.asleep.resize(state_.bodies.size(), 0);
   rebuild_broad_phase();
 }
 
@@ -71,12 +89,17 @@ void World::rebuild_broad_phase() {
 void World::step() {
   current_ = StepStatistics{};
   const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    step_penalty(w.dt);
+    return;
+  }
   const int substeps = std::max(1, w.substeps);
   const Real h = w.dt / substeps;
 
   update_bounds(w.dt);
   find_candidate_pairs();
   collide_candidate_pairs();
+  wake_touched_islands();
   prepare_contacts(h);
   for (int s = 0; s < substeps; ++s) {
     integrate_velocities(h);
@@ -86,6 +109,7 @@ void World::step() {
     apply_restitution();
   }
   finish_contacts();
+  update_sleep(w.dt);
 
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
@@ -94,10 +118,130 @@ void World::step() {
   last_step_ = current_;
 }
 
+// The penalty solver runs through the same stages: collision once, then substeps of gravity,
+// warm start, implicit spring-damper passes and positions. There is no relax pass (the spring
+// is the physics, not a correction to remove) and no restitution step (the damper sets it).
+void World::step_penalty(Real dt) {
+  const WorldSettings& w = scene_->world;
+  const int substeps = penalty_substeps_;
+  const Real h = dt / substeps;
+  update_bounds(dt);
+  find_candidate_pairs();
+  collide_candidate_pairs();
+  wake_touched_islands();
+  {
+    StageTimer timer(current_, Stage::solve);
+    PenaltySolverSettings settings;
+    settings.substep = h;
+    settings.min_iterations = w.iterations;
+    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
+    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
+                            settings);
+    current_.contact_points += penalty_solver_.point_count();
+  }
+  for (int s = 0; s < substeps; ++s) {
+    integrate_velocities(h);
+    {
+      StageTimer timer(current_, Stage::solve);
+      penalty_solver_.begin_substep(state_.bodies);
+      const PenaltySolverSettings& settings = penalty_solver_.settings();
+      for (int it = 0; it < settings.max_iterations; ++it) {
+        const Real change = penalty_solver_.solve(state_.bodies);
+        current_.solver_iterations += 1;
+        if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
+          break;
+      }
+    }
+    integrate_positions(h);
+  }
+  {
+    StageTimer timer(current_, Stage::solve);
+    penalty_solver_.store(state_.contacts);
+  }
+  update_sleep(dt);
+  state_.step += 1;
+  state_.time = static_cast<Real>(state_.step) * w.dt;
+  current_.state_hash = state_hash(state_);
+  last_step_ = current_;
+}
+
+// Islands of this step's contact graph (static bodies excluded). An island with one awake body
+// wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, so a
+// sleeping island costs collision only. Their warm-start impulses are dropped: a woken island
+// restarts its impulses from zero.
+void World::wake_touched_islands() {
+  if (!scene_->world.sleeping)
+    return;
+  StageTimer timer(current_, Stage::solve);
+  const std::size_t n = state_.bodies.size();
+  const auto& bodies = scene_->bodies;
+  islands_.reset(n);
+  for (const PairContact& pc : contacts_) {
+    if (!bodies[pc.body_a].is_static && !bodies[pc.body_b].is_static)
+      islands_.join(pc.body_a, pc.body_b);
+  }
+  island_awake_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!bodies[i].is_static && state_.asleep[i] == 0)
+      island_awake_[islands_.root(static_cast<std::int32_t>(i))] = 1;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (state_.asleep[i] != 0 && island_awake_[islands_.root(static_cast<std::int32_t>(i))]) {
+      state_.asleep[i] = 0;
+      state_.slow_time[i] = 0;
+    }
+  }
+  const auto inactive = [&](std::int32_t b) {
+    return bodies[b].is_static || state_.asleep[b] != 0;
+  };
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    if (inactive(contacts_[c].body_a) && inactive(contacts_[c].body_b))
+      continue;
+    contacts_[kept] = contacts_[c];
+    penalty_springs_[kept] = penalty_springs_[c];
+    ++kept;
+  }
+  contacts_.resize(kept);
+  penalty_springs_.resize(kept);
+}
+
+// A body is slow when |v| + |w| r is below the sleep speed; an island whose bodies have all
+// been slow for the sleep time falls asleep at rest.
+void World::update_sleep(Real dt) {
+  const WorldSettings& w = scene_->world;
+  if (!w.sleeping)
+    return;
+  StageTimer timer(current_, Stage::solve);
+  const std::size_t n = state_.bodies.size();
+  const auto& bodies = scene_->bodies;
+  island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bodies[i].is_static || state_.asleep[i] != 0)
+      continue;
+    const BodyState& b = state_.bodies[i];
+    const Real speed = b.velocity.norm() + b.angular_velocity.norm() * bounding_radii_[i];
+    state_.slow_time[i] = speed < w.sleep_speed ? state_.slow_time[i] + dt : Real(0);
+    Real& least = island_slow_time_[islands_.root(static_cast<std::int32_t>(i))];
+    least = std::min(least, state_.slow_time[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bodies[i].is_static || state_.asleep[i] != 0)
+      continue;
+    if (island_slow_time_[islands_.root(static_cast<std::int32_t>(i))] >= w.sleep_time) {
+      state_.asleep[i] = 1;
+      state_.bodies[i].velocity.setZero();
+      state_.bodies[i].angular_velocity.setZero();
+    }
+  }
+}
+
 void World::integrate_velocities(Real h) {
   StageTimer timer(current_, Stage::integrate_velocities);
   const Vec3 g = scene_->world.gravity;
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    if (state_.asleep[i] != 0)
+      continue;
     integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
   }
 }
@@ -134,6 +278,7 @@ void World::find_candidate_pairs() {
 void World::collide_candidate_pairs() {
   StageTimer timer(current_, Stage::narrow_phase);
   contacts_.clear();
+  penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
   const auto& materials = scene_->materials;
   for (const ProxyPair& pair : candidate_pairs_) {
@@ -158,6 +303,10 @@ void World::collide_candidate_pairs() {
         std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
                  b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
     contacts_.push_back(pc);
+    // The softer material sets the spring, the more damped one the damper: a rubber ball on
+    // steel deforms like rubber.
+    penalty_springs_.push_back(
+        PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
   }
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
 }
@@ -179,8 +328,10 @@ void World::prepare_contacts(Real h) {
 
 void World::solve_contacts(bool use_bias, int passes) {
   StageTimer timer(current_, Stage::solve);
-  if (use_bias)
+  if (use_bias) {
     solver_.warm_start(state_.bodies);
+    solver_.resolve_impacts(state_.bodies);
+  }
   for (int it = 0; it < passes; ++it)
     solver_.solve(state_.bodies, use_bias);
   current_.solver_iterations += passes;
@@ -199,7 +350,7 @@ void World::finish_contacts() {
 void World::integrate_positions(Real h) {
   StageTimer timer(current_, Stage::integrate_positions);
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    if (scene_->bodies[i].is_static)
+    if (scene_->bodies[i].is_static || state_.asleep[i] != 0)
       continue;
     integrate_position(state_.bodies[i], carries_[i], h);
   }

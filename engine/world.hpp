@@ -8,6 +8,8 @@
 #include "collision/broad_phase.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
+#include "dynamics/penalty_solver.hpp"
+#include "engine/islands.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -37,6 +39,15 @@ class World {
   Real kinetic_energy() const;
   Real potential_energy() const;
 
+  // Substeps per step of the penalty solver: the scene's `substeps`, raised so that the stiffest
+  // spring on the lightest body is resolved (h < 2 / omega, the explicit stability limit) while
+  // that costs at most kMaxPenaltySubsteps; beyond, the implicit update alone keeps it stable.
+  int penalty_substeps() const { return penalty_substeps_; }
+  static constexpr int kMaxPenaltySubsteps = 64;
+  // The penalty solver iterates each substep to convergence, at most this many passes (or the
+  // scene's `iterations` when larger).
+  static constexpr int kMaxPenaltyIterations = 64;
+
  private:
   void update_bounds(Real dt);
   void find_candidate_pairs();
@@ -48,6 +59,9 @@ class World {
   void apply_restitution();
   void finish_contacts();
   void rebuild_broad_phase();
+  void step_penalty(Real dt);
+  void wake_touched_islands();
+  void update_sleep(Real dt);
 
   std::shared_ptr<const Scene> scene_;
   State state_;
@@ -65,6 +79,12 @@ class World {
   std::vector<ProxyPair> candidate_pairs_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
+  PenaltySolver penalty_solver_;
+  std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
+  int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
+  Islands islands_;
+  std::vector<std::uint8_t> island_awake_;  // per root body
+  std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
 
   StepStatistics current_;
   StepStatistics last_step_;

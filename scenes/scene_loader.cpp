@@ -125,6 +125,9 @@ constexpr RealSpec kPushSpeed{"a speed in m/s", "greater than 0, at most 1e6", 0
 constexpr RealSpec kSpeedThreshold{"a speed in m/s", "0 to 1e6", 0, kMaxSpeed};
 constexpr RealSpec kFriction{"a friction coefficient", "0 to 100", 0, kMaxFriction};
 constexpr RealSpec kRestitution{"a coefficient of restitution", "0 to 1", 0, 1};
+constexpr RealSpec kStiffness{"a contact stiffness in N/m", "greater than 0, at most 1e12", 0, 1e12,
+                              true};
+constexpr RealSpec kDamping{"a contact damping in N s/m", "0 to 1e12", 0, 1e12};
 constexpr RealSpec kMass{"a positive mass in kilograms", "1e-12 to 1e15", kMinMass, kMaxMass};
 constexpr RealSpec kDensity{"a positive density in kg/m^3", "greater than 0, at most 1e6", 0,
                             kMaxDensity, true};
@@ -140,12 +143,14 @@ constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 1
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
 // clang-format off
-constexpr std::array<std::string_view, 16> kWorldKeys{
+constexpr std::array<std::string_view, 19> kWorldKeys{
     "gravity", "dt", "duration", "steps", "substeps", "solver", "iterations",
     "relax_iterations", "broadphase", "ccd", "contact_margin", "penetration_slop",
-    "contact_hertz", "contact_damping_ratio", "max_push_velocity", "restitution_threshold"};
+    "contact_hertz", "contact_damping_ratio", "max_push_velocity", "restitution_threshold",
+    "sleeping", "sleep_speed", "sleep_time"};
 // clang-format on
-constexpr std::array<std::string_view, 2> kMaterialKeys{"friction", "restitution"};
+constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
+                                                        "damping"};
 constexpr std::array<std::string_view, 12> kBodyKeys{
     "name", "shape",   "position", "orientation", "velocity", "angular_velocity",  //
     "mass", "density", "inertia",  "material",    "static",   "fast"};
@@ -740,14 +745,14 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
     w.substeps = static_cast<int>(read_int(*x, path("substeps"), kSubsteps));
   }
   if (const Entry* x = f.find("solver")) {
-    const std::string s = read_word(*x, path("solver"), "a solver name (impulse)");
+    const std::string s = read_word(*x, path("solver"), "a solver name (impulse, penalty)");
     if (s == "impulse") {
       w.solver = SolverType::impulse;
     } else if (s == "penalty") {
-      fail(x->mark(), path("solver"),
-           "solver 'penalty' is not implemented yet; available: impulse");
+      w.solver = SolverType::penalty;
     } else {
-      fail(x->mark(), path("solver"), "expected one of: impulse, got " + describe(x->value));
+      fail(x->mark(), path("solver"),
+           "expected one of: impulse, penalty, got " + describe(x->value));
     }
   }
   if (const Entry* x = f.find("iterations")) {
@@ -799,16 +804,26 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
   if (const Entry* x = f.find("restitution_threshold")) {
     w.restitution_threshold = read_real(*x, path("restitution_threshold"), kSpeedThreshold);
   }
+  if (const Entry* x = f.find("sleeping")) {
+    w.sleeping = read_bool(*x, path("sleeping"));
+  }
+  if (const Entry* x = f.find("sleep_speed")) {
+    w.sleep_speed = read_real(*x, path("sleep_speed"), kPushSpeed);
+  }
+  if (const Entry* x = f.find("sleep_time")) {
+    w.sleep_time = read_real(*x, path("sleep_time"), kDuration);
+  }
 }
 
 void Loader::load_materials(const Entry* e, std::vector<Material>& materials) const {
   materials.clear();
-  materials.push_back(Material{"default", Real(0.5), 0});
+  materials.push_back(Material{"default", Real(0.5), 0, 1e6, 1e3});
   if (e == nullptr) {
     return;
   }
-  const Fields f = read_map(e->value, e->mark(), "materials",
-                            "a map from material names to {friction, restitution}", true);
+  const Fields f =
+      read_map(e->value, e->mark(), "materials",
+               "a map from material names to {friction, restitution, stiffness, damping}", true);
   for (const Entry& m : f.entries) {
     const std::string path = child("materials", m.key);
     Node key;  // the name as a node, so that it reads like any other value
@@ -818,14 +833,6 @@ void Loader::load_materials(const Entry* e, std::vector<Material>& materials) co
     const Entry name_entry{m.key, m.key_mark, key};
     const std::string name = read_name(name_entry, path, "a material name");
     const Fields props = read_map(m.value, m.mark(), path, "a map {friction, restitution}", false);
-    for (const Entry& p : props.entries) {
-      if (p.key == "stiffness" || p.key == "damping") {
-        fail(p.key_mark, child(path, p.key),
-             "field '" + p.key +
-                 "' belongs to the penalty solver, which is not implemented yet; expected one "
-                 "of: friction, restitution");
-      }
-    }
     check_known(props, kMaterialKeys);
     Material mat;
     mat.name = name;
@@ -834,6 +841,12 @@ void Loader::load_materials(const Entry* e, std::vector<Material>& materials) co
     }
     if (const Entry* x = props.find("restitution")) {
       mat.restitution = read_real(*x, child(path, "restitution"), kRestitution);
+    }
+    if (const Entry* x = props.find("stiffness")) {
+      mat.stiffness = read_real(*x, child(path, "stiffness"), kStiffness);
+    }
+    if (const Entry* x = props.find("damping")) {
+      mat.damping = read_real(*x, child(path, "damping"), kDamping);
     }
     // `default` keeps slot 0 so that a body without a material needs no lookup.
     if (name == "default") {

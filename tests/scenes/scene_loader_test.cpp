@@ -183,11 +183,16 @@ TEST(SceneLoader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_DOUBLE_EQ(w.contact_damping_ratio, 10);
   EXPECT_DOUBLE_EQ(w.max_push_velocity, 3);
   EXPECT_DOUBLE_EQ(w.restitution_threshold, 0.2);
+  EXPECT_FALSE(w.sleeping);
+  EXPECT_DOUBLE_EQ(w.sleep_speed, 0.05);
+  EXPECT_DOUBLE_EQ(w.sleep_time, 0.5);
 
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].name, "default");
   EXPECT_DOUBLE_EQ(s.materials[0].friction, 0.5);
   EXPECT_DOUBLE_EQ(s.materials[0].restitution, 0);
+  EXPECT_DOUBLE_EQ(s.materials[0].stiffness, 1e6);
+  EXPECT_DOUBLE_EQ(s.materials[0].damping, 1e3);
 
   ASSERT_EQ(s.bodies.size(), 1u);
   const BodyDesc& b = s.bodies[0];
@@ -429,8 +434,13 @@ TEST(SceneFormatDoc, DocumentsEveryField) {
                           "contact_damping_ratio",
                           "max_push_velocity",
                           "restitution_threshold",
+                          "sleeping",
+                          "sleep_speed",
+                          "sleep_time",
                           "friction",
                           "restitution",
+                          "stiffness",
+                          "damping",
                           "name",
                           "shape",
                           "position",

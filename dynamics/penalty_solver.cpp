@@ -1,0 +1,235 @@
+#include "dynamics/penalty_solver.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace tumble {
+namespace {
+
+Real effective_mass(Real inv_mass_sum, const Mat3& inv_i_a, const Mat3& inv_i_b, const Vec3& r_a,
+                    const Vec3& r_b, const Vec3& axis) {
+  const Vec3 ra_x = r_a.cross(axis);
+  const Vec3 rb_x = r_b.cross(axis);
+  const Real k = inv_mass_sum + ra_x.dot(inv_i_a * ra_x) + rb_x.dot(inv_i_b * rb_x);
+  return k > 0 ? Real(1) / k : Real(0);
+}
+
+const CachedManifold* find_cached(std::span<const CachedManifold> previous, std::int32_t a,
+                                  std::int32_t b) {
+  const auto it = std::lower_bound(previous.begin(), previous.end(), std::pair{a, b},
+                                   [](const CachedManifold& m, const std::pair<int, int>& key) {
+                                     return std::pair{m.body_a, m.body_b} < key;
+                                   });
+  if (it == previous.end() || it->body_a != a || it->body_b != b)
+    return nullptr;
+  return &*it;
+}
+
+}  // namespace
+
+void PenaltySolver::prepare(std::span<const PairContact> contacts,
+                            std::span<const PenaltyPair> springs,
+                            std::span<const CachedManifold> previous,
+                            std::span<const BodyState> bodies, std::span<const BodyMass> masses,
+                            const PenaltySolverSettings& settings) {
+  settings_ = settings;
+  points_.clear();
+  pairs_.clear();
+  pair_bodies_.clear();
+  const std::size_t n = bodies.size();
+  inverse_mass_.resize(n);
+  inverse_inertia_world_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inverse_mass_[i] = masses[i].inverse_mass;
+    const Mat3 r = bodies[i].orientation.toRotationMatrix();
+    inverse_inertia_world_[i] = r * masses[i].inverse_inertia * r.transpose();
+  }
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const PairContact& pc = contacts[c];
+    const std::int32_t a = pc.body_a;
+    const std::int32_t b = pc.body_b;
+    const PairInfo info{static_cast<std::int32_t>(points_.size()), pc.manifold.count};
+    const Vec3 normal = pc.manifold.normal;
+    Vec3 t1, t2;
+    orthonormal_basis(normal, t1, t2);
+    const Real inv_mass_sum = inverse_mass_[a] + inverse_mass_[b];
+    const Mat3& ia = inverse_inertia_world_[a];
+    const Mat3& ib = inverse_inertia_world_[b];
+    for (int k = 0; k < pc.manifold.count; ++k) {
+      const ContactPoint& cp = pc.manifold.points[k];
+      Point p;
+      p.a = a;
+      p.b = b;
+      p.feature = cp.feature.key();
+      p.normal = normal;
+      p.tangent1 = t1;
+      p.tangent2 = t2;
+      p.r_a = cp.position - bodies[a].position;
+      p.r_b = cp.position - bodies[b].position;
+      p.local_a = bodies[a].orientation.conjugate() * p.r_a;
+      p.local_b = bodies[b].orientation.conjugate() * p.r_b;
+      p.base_separation = -cp.depth;
+      p.rn_a = p.r_a.cross(normal);
+      p.rn_b = p.r_b.cross(normal);
+      p.rt1_a = p.r_a.cross(t1);
+      p.rt1_b = p.r_b.cross(t1);
+      p.rt2_a = p.r_a.cross(t2);
+      p.rt2_b = p.r_b.cross(t2);
+      p.in_a = ia * p.rn_a;
+      p.in_b = ib * p.rn_b;
+      p.it1_a = ia * p.rt1_a;
+      p.it1_b = ib * p.rt1_b;
+      p.it2_a = ia * p.rt2_a;
+      p.it2_b = ib * p.rt2_b;
+      p.inv_mass_a = inverse_mass_[a];
+      p.inv_mass_b = inverse_mass_[b];
+      p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
+      p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
+      p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
+      p.friction = pc.friction;
+      // A manifold of several points shares the pair's spring: each point carries its share,
+      // so a box face resting on a floor is as stiff as k, whatever the manifold reduction
+      // kept.
+      p.stiffness = springs[c].stiffness / pc.manifold.count;
+      p.damping = springs[c].damping / pc.manifold.count;
+      points_.push_back(p);
+    }
+    // Warm start by feature id (the fixed point does not depend on it; it saves iterations).
+    if (const CachedManifold* cached = find_cached(previous, a, b)) {
+      std::array<bool, kMaxManifoldPoints> used{};
+      for (int k = 0; k < info.count; ++k) {
+        Point& p = points_[info.first_point + k];
+        for (int m = 0; m < cached->count; ++m) {
+          if (!used[m] && cached->points[m].feature == p.feature) {
+            used[m] = true;
+            p.normal_impulse = cached->points[m].normal_impulse;
+            p.tangent_impulse1 = cached->points[m].friction_impulse.dot(t1);
+            p.tangent_impulse2 = cached->points[m].friction_impulse.dot(t2);
+            break;
+          }
+        }
+      }
+    }
+    pairs_.push_back(info);
+    pair_bodies_.push_back(a);
+    pair_bodies_.push_back(b);
+  }
+}
+
+Real PenaltySolver::separation(const Point& p, std::span<const BodyState> bodies) const {
+  const BodyState& a = bodies[p.a];
+  const BodyState& b = bodies[p.b];
+  const Vec3 anchor_a = a.position + a.orientation * p.local_a;
+  const Vec3 anchor_b = b.position + b.orientation * p.local_b;
+  return p.base_separation + (anchor_a - anchor_b).dot(p.normal);
+}
+
+void PenaltySolver::apply(const Point& p, Real normal, Real tangent1, Real tangent2,
+                          std::span<BodyState> bodies) {
+  BodyState& a = bodies[p.a];
+  BodyState& b = bodies[p.b];
+  const Vec3 linear = normal * p.normal + tangent1 * p.tangent1 + tangent2 * p.tangent2;
+  const Vec3 angular_a = normal * p.in_a + tangent1 * p.it1_a + tangent2 * p.it2_a;
+  const Vec3 angular_b = normal * p.in_b + tangent1 * p.it1_b + tangent2 * p.it2_b;
+  a.velocity += p.inv_mass_a * linear;
+  a.angular_velocity += angular_a;
+  b.velocity -= p.inv_mass_b * linear;
+  b.angular_velocity -= angular_b;
+}
+
+void PenaltySolver::begin_substep(std::span<BodyState> bodies) {
+  for (Point& p : points_)
+    p.substep_separation = separation(p, bodies);
+  for (const Point& p : points_)
+    apply(p, p.normal_impulse, p.tangent_impulse1, p.tangent_impulse2, bodies);
+}
+
+// Row updates of projected Gauss-Seidel on the implicit substep. With the accumulated impulse
+// lambda and the current approach velocity v_n (which already includes lambda), the new
+// impulse satisfies lambda' = h (-k phi - (h k + c) (v_n + (lambda' - lambda) / m_eff)), so
+//   lambda' = (h (-k phi - (h k + c) v_n) + g lambda) / (1 + g),   g = h (h k + c) / m_eff,
+// clamped at 0 (a spring pushes, never pulls). phi is the separation at the substep's start.
+Real PenaltySolver::solve(std::span<BodyState> bodies) {
+  const Real h = settings_.substep;
+  Real largest_change = 0;
+  const Real v_reg = settings_.friction_regularisation_speed;
+  for (const PairInfo& pair : pairs_) {
+    const std::span<Point> points = std::span(points_).subspan(pair.first_point, pair.count);
+    for (Point& p : points) {
+      const Real phi = p.substep_separation;
+      const BodyState& a = bodies[p.a];
+      const BodyState& b = bodies[p.b];
+      const Real vn = p.normal.dot(a.velocity - b.velocity) + p.rn_a.dot(a.angular_velocity) -
+                      p.rn_b.dot(b.angular_velocity);
+      Real target = 0;
+      if (phi < 0 || p.normal_impulse > 0) {
+        // The spring acts only while the surfaces overlap; phi is the start-of-substep value,
+        // so a gap closing within the substep is met by the next substep's spring.
+        const Real stiffness = phi < 0 ? p.stiffness : Real(0);
+        const Real damping = phi < 0 ? p.damping : Real(0);
+        const Real rate = h * stiffness + damping;
+        const Real g = p.normal_mass > 0 ? h * rate / p.normal_mass : Real(0);
+        target = (h * (-stiffness * phi - rate * vn) + g * p.normal_impulse) / (1 + g);
+      }
+      const Real new_impulse = std::max(target, Real(0));
+      const Real applied = new_impulse - p.normal_impulse;
+      p.normal_impulse = new_impulse;
+      if (p.normal_mass > 0)
+        largest_change = std::max(largest_change, std::abs(applied) / p.normal_mass);
+      apply(p, applied, 0, 0, bodies);
+    }
+    // Regularised Coulomb friction, implicit as well: the viscous coefficient mu lambda_n /
+    // v_reg acts on the end-of-substep sliding velocity, then the impulse is clamped to the
+    // disc mu lambda_n.
+    for (Point& p : points) {
+      const BodyState& a = bodies[p.a];
+      const BodyState& b = bodies[p.b];
+      const Vec3 dv = a.velocity - b.velocity;
+      const Real slip1 =
+          p.tangent1.dot(dv) + p.rt1_a.dot(a.angular_velocity) - p.rt1_b.dot(b.angular_velocity);
+      const Real slip2 =
+          p.tangent2.dot(dv) + p.rt2_a.dot(a.angular_velocity) - p.rt2_b.dot(b.angular_velocity);
+      const Real bound = p.friction * p.normal_impulse;
+      const Real viscosity = bound / v_reg;
+      auto row = [&](Real impulse, Real slip, Real mass) {
+        const Real g = mass > 0 ? viscosity / mass : Real(0);
+        return (-viscosity * slip + g * impulse) / (1 + g);
+      };
+      Real new1 = row(p.tangent_impulse1, slip1, p.tangent_mass1);
+      Real new2 = row(p.tangent_impulse2, slip2, p.tangent_mass2);
+      const Real magnitude = std::sqrt(new1 * new1 + new2 * new2);
+      if (magnitude > bound) {
+        const Real scale = magnitude > 0 ? bound / magnitude : Real(0);
+        new1 *= scale;
+        new2 *= scale;
+      }
+      apply(p, 0, new1 - p.tangent_impulse1, new2 - p.tangent_impulse2, bodies);
+      p.tangent_impulse1 = new1;
+      p.tangent_impulse2 = new2;
+    }
+  }
+  return largest_change;
+}
+
+void PenaltySolver::store(std::vector<CachedManifold>& cache) const {
+  cache.clear();
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const PairInfo& info = pairs_[i];
+    CachedManifold m;
+    m.body_a = pair_bodies_[2 * i];
+    m.body_b = pair_bodies_[2 * i + 1];
+    m.count = info.count;
+    for (int k = 0; k < info.count; ++k) {
+      const Point& p = points_[info.first_point + k];
+      m.points[k].feature = p.feature;
+      m.points[k].local_point = p.local_a;
+      m.points[k].normal_impulse = p.normal_impulse;
+      m.points[k].friction_impulse =
+          p.tangent1 * p.tangent_impulse1 + p.tangent2 * p.tangent_impulse2;
+    }
+    cache.push_back(m);
+  }
+}
+
+}  // namespace tumble
