@@ -8,6 +8,7 @@
 #include "collision/broad_phase.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
+#include "engine/continuous_collision.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -48,6 +49,7 @@ class World {
   void apply_restitution();
   void finish_contacts();
   void rebuild_broad_phase();
+  void sweep_fast_bodies();
 
   std::shared_ptr<const Scene> scene_;
   State state_;
@@ -65,6 +67,7 @@ class World {
   std::vector<ProxyPair> candidate_pairs_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
+  std::unique_ptr<ContinuousCollision> continuous_;  // null when the scene never sweeps
 
   StepStatistics current_;
   StepStatistics last_step_;

@@ -27,9 +27,9 @@
 namespace tumble {
 
 enum class ToiStatus : std::uint8_t {
-  separated,       // no contact for s in [0, 1]
-  hit,             // the gap fell to the target at time_of_impact
-  overlapping,     // the shapes are closer than the target already at s = 0
+  separated,       // the gap stays above the target for s in [0, 1]
+  hit,             // the gap fell to the target (within the tolerance) at time_of_impact
+  overlapping,     // the gap is within the tolerance of the target already at s = 0
   max_iterations,  // the iteration cap was reached; time_of_impact is the time reached (safe)
   invalid_input,   // NaN or infinite distance or motion
 };
@@ -37,9 +37,14 @@ enum class ToiStatus : std::uint8_t {
 std::string_view toi_status_name(ToiStatus status);
 
 struct ToiSettings {
-  // The advancement stops when the gap is below this [m] (the contact is reported there). The
-  // time error of a hit is about target_distance / approach speed; must be > 0.
-  Real target_distance = Real(1e-6);
+  // The advancement stops once the distance bound is within `tolerance` above this [m]; the
+  // contact is reported there. Zero asks for the moment of touching; a positive target stops
+  // short of it (the stepper leaves a gap), a negative one allows that much penetration (the
+  // stepper's test for bodies already in contact that must not pass through).
+  Real target_distance = 0;
+  // Width of the band above the target where the search stops [m]; > 0. The time error of a
+  // hit is about tolerance / approach speed.
+  Real tolerance = Real(1e-6);
   int max_iterations = 64;
 };
 
@@ -69,6 +74,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
   const Real full_speed =
       both_linear ? relative_velocity.norm() : a.centre_speed() + b.centre_speed();
   const Real target = settings.target_distance;
+  const Real stop = target + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
   Real s = 0;
   for (int it = 0; it < settings.max_iterations; ++it) {
     out.iterations = it + 1;
@@ -81,7 +87,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
     }
     out.distance = d.distance;
     out.normal = d.normal;
-    if (d.distance <= target) {
+    if (d.distance <= stop) {
       out.status = s == 0 ? ToiStatus::overlapping : ToiStatus::hit;
       out.time_of_impact = s;
       return out;
@@ -91,9 +97,9 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
       approach = std::max(Real(0), -relative_velocity.dot(d.normal));
     const Real bound = approach + spin_bound;
     // Advance until the gap could have closed to the target (never past it).
-    const Real step = bound > 0 ? (d.distance - target * Real(0.5)) / bound : Real(2);
+    const Real step = bound > 0 ? (d.distance - target) / bound : Real(2);
     if (s + step >= 1) {
-      // The gap stays above target / 2 > 0 up to s = 1: no contact in this motion.
+      // The gap stays above the target up to s = 1: no contact in this motion.
       out.status = ToiStatus::separated;
       out.time_of_impact = 1;
       return out;

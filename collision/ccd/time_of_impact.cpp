@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <limits>
 
 #include "collision/ccd/conservative_advancement.hpp"
@@ -31,7 +32,8 @@ ToiResult time_of_impact(const Shape& a, const RigidMotion& motion_a, const Shap
     reach += motion_a.angular_velocity().norm() * radius_a;
   if (motion_b.angular_velocity().norm() > 0)
     reach += motion_b.angular_velocity().norm() * radius_b;
-  const Real max_distance = reach + settings.target_distance + Real(1e-9);
+  const Real max_distance =
+      reach + std::max(settings.target_distance, Real(0)) + settings.tolerance + Real(1e-9);
   auto distance = [&](const Transform& pa, const Transform& pb) {
     return shape_distance_bound(a, pa, b, pb, max_distance);
   };

@@ -22,7 +22,7 @@ namespace {
 
 ToiSettings precise() {
   ToiSettings s;
-  s.target_distance = 1e-13;
+  s.tolerance = 1e-13;
   s.max_iterations = 1000;
   return s;
 }
@@ -170,7 +170,7 @@ TEST(TimeOfImpact, NeverTunnelsThroughAnyPairOfShapes) {
                                    : RigidMotion::from_velocity(pb, random_vector(rng, -1, 1),
                                                                 random_vector(rng, -8, 8));
     ToiSettings settings;
-    settings.target_distance = 1e-6;
+    settings.tolerance = 1e-6;
     settings.max_iterations = 500;
     const ToiResult r = time_of_impact(a, ma, b, mb, settings);
     ASSERT_NE(r.status, ToiStatus::invalid_input) << "case " << i;
@@ -214,7 +214,7 @@ TEST(SweptBoxSat, AgreesWithConservativeAdvancementAndSampling) {
     const Vec3 vb = random_vector(rng, -0.5, 0.5);
     const ToiResult sat = swept_box_sat(ha, pa, va, hb, pb, vb);
     ToiSettings settings;
-    settings.target_distance = 1e-10;
+    settings.tolerance = 1e-10;
     settings.max_iterations = 2000;
     Transform ea = pa, eb = pb;
     ea.translation += va;
@@ -247,7 +247,7 @@ TEST(TimeOfImpact, StatusesForCapsAndBadInput) {
       RigidMotion::from_velocity({Vec3(0, 0, 5), Quat::Identity()}, Vec3(0, 0, -10), Vec3(0, 0, 0));
   ToiSettings one;
   one.max_iterations = 1;
-  one.target_distance = 1e-12;
+  one.tolerance = 1e-12;
   // A box spinning fast: one step of advancement cannot reach a verdict.
   const RigidMotion spinning = RigidMotion::from_velocity({Vec3(0, 0, 5), Quat::Identity()},
                                                           Vec3(0, 0, -10), Vec3(50, 0, 0));
