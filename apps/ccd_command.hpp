@@ -13,7 +13,7 @@ struct CcdOptions {
   std::filesystem::path file;
   std::string kind;            // "vf" or "ee"
   bool reverse_faces = false;  // vertex-face: swap the triangle's second and third vertices
-  double tolerance = 1e-9;     // m, MeshCcdSettings::tolerance
+  double tolerance = 1e-6;     // m, MeshCcdSettings::tolerance
 };
 
 // Returns 0 on success; a malformed file throws std::runtime_error naming file and line.

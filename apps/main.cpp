@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"vf", "ee"}));
   ccd_cmd->add_flag("--reverse-faces", ccd.reverse_faces,
                     "vf: reverse the triangle's vertex order");
-  ccd_cmd->add_option("--tolerance", ccd.tolerance, "Contact tolerance in m (default 1e-9)")
+  ccd_cmd->add_option("--tolerance", ccd.tolerance, "Contact tolerance in m (default 1e-6)")
       ->check(kFinitePositive);
 
   try {

@@ -25,9 +25,9 @@ enum class MeshCcdStatus : std::uint8_t {
 
 struct MeshCcdSettings {
   // Features closer than this [m] may be reported as touching. Must be > 0.
-  Real tolerance = Real(1e-9);
+  Real tolerance = Real(1e-6);
   // How many parameter boxes the search may test before it gives up (conservatively).
-  std::int32_t max_boxes = 1 << 20;
+  std::int32_t max_boxes = 100000;
 };
 
 struct MeshCcdResult {
