@@ -99,20 +99,21 @@ void World::step() {
 }
 
 // Fast bodies are swept from their pose at the start of the step (shape_poses_, set by
-// update_bounds) to where the solver put them; the stage runs only in steps that sweep a body.
+// update_bounds) to where the solver put them; the stage is reported as run only in steps where a
+// swept body had a candidate to be tested against.
 void World::sweep_fast_bodies() {
   if (!continuous_)
     return;
   const auto begin = std::chrono::steady_clock::now();
   const ContinuousCollisionCounts counts =
       continuous_->run(*scene_, shape_poses_, candidate_pairs_, state_.bodies);
-  if (counts.swept_bodies == 0)
-    return;
+  current_.swept_bodies += counts.swept_bodies;
+  if (counts.toi_queries == 0)
+    return;  // nothing near a swept body: no sweep was needed
   const int stage = static_cast<int>(Stage::continuous);
   current_.ran[stage] = true;
   current_.seconds[stage] +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  current_.swept_bodies += counts.swept_bodies;
   current_.stopped_bodies += counts.stopped_bodies;
 }
 
