@@ -10,6 +10,8 @@
 // Both are exact at s = 0 and s = 1 and both turn the body by the same rotation.
 #pragma once
 
+#include <cstdint>
+
 #include "collision/math.hpp"
 
 namespace tumble {
