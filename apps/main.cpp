@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "apps/ccd_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
@@ -60,6 +61,18 @@ int main(int argc, char** argv) {
   CLI::App* validate_cmd = app.add_subcommand("validate", "Check a scene file and report errors");
   validate_cmd->add_option("scene", validate_scene, "Scene file (YAML)")->required();
 
+  tumble::app::CcdOptions ccd;
+  CLI::App* ccd_cmd = app.add_subcommand(
+      "ccd", "Run vertex-face or edge-edge CCD on a query file (CCD benchmark CSV) and score it");
+  ccd_cmd->add_option("file", ccd.file, "Query file (CSV, 8 rows per query)")->required();
+  ccd_cmd->add_option("--kind", ccd.kind, "vf (vertex-face) or ee (edge-edge)")
+      ->required()
+      ->check(CLI::IsMember({"vf", "ee"}));
+  ccd_cmd->add_flag("--reverse-faces", ccd.reverse_faces,
+                    "vf: reverse the triangle's vertex order");
+  ccd_cmd->add_option("--tolerance", ccd.tolerance, "Contact tolerance in m (default 1e-6)")
+      ->check(kFinitePositive);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -76,6 +89,8 @@ int main(int argc, char** argv) {
       return tumble::app::run_command(run);
     if (validate_cmd->parsed())
       return tumble::app::validate_command(validate_scene);
+    if (ccd_cmd->parsed())
+      return tumble::app::ccd_command(ccd);
   } catch (const tumble::SceneError& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -31,6 +31,8 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   contact_points += o.contact_points;
   solver_iterations += o.solver_iterations;
+  swept_bodies += o.swept_bodies;
+  stopped_bodies += o.stopped_bodies;
   state_hash = o.state_hash;  // the latest step's
 }
 

@@ -10,6 +10,7 @@
 #include "dynamics/integrator.hpp"
 #include "dynamics/penalty_solver.hpp"
 #include "engine/islands.hpp"
+#include "engine/continuous_collision.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -62,6 +63,7 @@ class World {
   void step_penalty(Real dt);
   void wake_touched_islands();
   void update_sleep(Real dt);
+  void sweep_fast_bodies();
 
   std::shared_ptr<const Scene> scene_;
   State state_;
@@ -85,6 +87,7 @@ class World {
   Islands islands_;
   std::vector<std::uint8_t> island_awake_;  // per root body
   std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
+  std::unique_ptr<ContinuousCollision> continuous_;  // null when the scene never sweeps
 
   StepStatistics current_;
   StepStatistics last_step_;

@@ -164,18 +164,51 @@ TEST(Cli, MissingSceneIsAUserError) {
   }
 }
 
-// Continuous collision is not implemented yet: a scene that asks for it runs, and says plainly
-// that no body is swept.
-TEST(Cli, SweepingRequestIsReportedNotIgnored) {
+// A fast body is swept (the summary counts it); `fast: true` under `ccd: off` runs unswept and
+// says so.
+TEST(Cli, FastBodiesAreSweptAndAConflictIsReported) {
   const fs::path dir = scratch_dir("ccd");
   const fs::path scene = dir / "fast.yaml";
   std::ofstream(scene) << "bodies:\n  - {name: bullet, shape: {type: sphere, radius: 0.01}, "
                           "velocity: [100, 0, 0], fast: true}\n";
   const Result r = run_cli("run " + scene.string() + " --steps 2 -o " + dir.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("not implemented yet; no body is swept"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"));
+  EXPECT_EQ(summary["counts"]["ccd_swept_bodies"], 2) << summary.dump();
+  const fs::path off = dir / "fast_off.yaml";
+  std::ofstream(off) << "world: {ccd: off}\nbodies:\n  - {name: bullet, shape: {type: sphere, "
+                        "radius: 0.01}, velocity: [100, 0, 0], fast: true}\n";
+  const Result warned = run_cli("run " + off.string() + " --steps 2 -o " + dir.string());
+  EXPECT_EQ(warned.exit_code, 0) << warned.output;
+  EXPECT_NE(warned.output.find("fast: true but sets ccd: off"), std::string::npos) << warned.output;
   const Result quiet = run_cli("run " + kScenes + "free_flight.yaml --steps 2 -o " + dir.string());
   EXPECT_EQ(quiet.output.find("warning"), std::string::npos) << quiet.output;
+}
+
+// `tumble ccd` scores a query file of the CCD benchmark, and refuses a malformed one naming the
+// file and line.
+TEST(Cli, CcdScoresASampleFileAndRejectsBadRows) {
+  const std::string file =
+      std::string(TUMBLE_SHARED_DIR) + "/ccd-sample-queries/unit-tests/vertex-face/data_0_0.csv";
+  for (const std::string extra : {"", " --reverse-faces"}) {
+    const Result r = run_cli("ccd " + file + " --kind vf" + extra);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto out = nlohmann::json::parse(r.output);
+    EXPECT_EQ(out["queries"], 125);
+    EXPECT_EQ(out["false_negatives"], 0);
+    EXPECT_EQ(out["true_positives"], 35);  // the README's positives for this file
+    EXPECT_EQ(out["true_positives"].get<int>() + out["false_positives"].get<int>() +
+                  out["true_negatives"].get<int>() + out["false_negatives"].get<int>(),
+              125);
+  }
+  const fs::path dir = scratch_dir("ccd_bad");
+  const fs::path bad = dir / "bad.csv";
+  std::ofstream(bad) << "1,1,0,1,0,1,0\n1,1,x,1,0,1,0\n";
+  const Result r = run_cli("ccd " + bad.string() + " --kind ee");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bad.csv:2"), std::string::npos) << r.output;
+  EXPECT_EQ(run_cli("ccd " + bad.string() + " --kind xx").exit_code, 1);
 }
 
 TEST(Cli, ValidateAcceptsEveryShippedScene) {

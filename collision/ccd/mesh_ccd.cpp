@@ -1,0 +1,320 @@
+// Vertex-face and edge-edge continuous collision under linear vertex motion (seed 4.3.4 and
+// exercise 4.3), in two conservative stages.
+//
+// 1. The coplanarity cubic. A contact needs the four points coplanar: f(t) = det[u, v, w] = 0
+//    with u, v, w differences of the moving vertices (seed 4.3.4's n(t) . (p(t) - a(t)), cubic
+//    in t). Instead of a closed-form root (Cardano is fragile near double roots and useless
+//    when f is identically zero, the coplanar motions of exercise 4.3), f is written in the
+//    Bernstein basis of [0, 1]. Each Bernstein coefficient is a mean of determinants of the
+//    vertex differences at t = 0 and t = 1, so it is computed directly from the input with a
+//    rounding error bounded a priori. By the convex hull property, f has no root on an
+//    interval where all its coefficients are of one sign beyond that bound; halving by de
+//    Casteljau (each half again a Bernstein form) brackets the roots into a few intervals,
+//    and an interval on which f stays within the bound (coplanar or parallel motion) is kept
+//    whole. No interval holding a root is ever dropped; nothing is iterated to convergence.
+//
+// 2. The inside test, on each kept time interval in order. The contact condition is that
+//    F(t, u, v) = 0 for some t in the interval and (u, v) in the feature domain, with
+//      vertex-face: F = p(t) - a(t) - u (b(t) - a(t)) - v (c(t) - a(t)), u, v >= 0, u + v <= 1
+//      edge-edge:   F = a0(t) + u (a1(t) - a0(t)) - b0(t) - v (b1(t) - b0(t)), u, v in [0, 1].
+//    F is affine in each of t, u and v separately (multilinear), so over a box of parameters
+//    its values lie in the convex hull of its values at the 8 corners. A box whose corner
+//    values, widened by their rounding bound, leave zero out on some axis holds no contact and
+//    is dropped; otherwise it is split along the parameter that spreads F most. A box whose
+//    image is narrower than the tolerance is reported as a contact at its earliest time. This
+//    is the inclusion test of Wang, Ferguson, Schneider, Jiang, Attene and Panozzo, "A
+//    Large-scale Benchmark and an Inclusion-based Algorithm for Continuous Collision
+//    Detection", ACM TOG 40(5), 2021, with the box bounded by its corners (exact for
+//    multilinear F) and restricted to the time intervals of stage 1. Degenerate motions need no
+//    special case: a coplanar sliding vertex is decided by the same boxes as any other.
+//
+// Rounding: every bound assumes round-to-nearest doubles and is a generous multiple of the
+// worst case, measured against M, the largest coordinate magnitude in the query. Parameters
+// are dyadic (halving), so 1 - t and u + v are exact.
+#include "collision/ccd/mesh_ccd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tumble {
+namespace {
+
+enum class Feature : std::uint8_t { vertex_face, edge_edge };
+
+constexpr Real kUnitRoundoff = std::numeric_limits<Real>::epsilon() / 2;  // 2^-53
+// Parameter boxes are not split below this width (the parameters stay exact dyadics).
+constexpr Real kMinParameterWidth = Real(1) / Real(1ull << 50);
+// Coplanarity intervals are not halved below 2^-kMaxCubicDepth.
+constexpr int kMaxCubicDepth = 10;
+constexpr int kMaxTimeIntervals = 32;
+constexpr int kStackSize = 200;  // > the deepest chain of splits (3 * 50 parameters)
+
+struct Query {
+  Feature feature;
+  std::array<Vec3, 4> start;
+  std::array<Vec3, 4> end;
+  Real magnitude = 0;  // M: the largest |coordinate|
+};
+
+struct TimeInterval {
+  Real begin;
+  Real end;
+};
+
+Real triple(const Vec3& u, const Vec3& v, const Vec3& w) {
+  return u.dot(v.cross(w));
+}
+
+// The three edge vectors whose determinant is the coplanarity function at one end of the step.
+void coplanarity_vectors(Feature feature, const std::array<Vec3, 4>& x, Vec3& u, Vec3& v, Vec3& w) {
+  if (feature == Feature::vertex_face) {
+    u = x[2] - x[1];  // b - a
+    v = x[3] - x[1];  // c - a
+    w = x[0] - x[1];  // p - a
+  } else {
+    u = x[1] - x[0];  // a1 - a0
+    v = x[2] - x[0];  // b0 - a0
+    w = x[3] - x[0];  // b1 - a0
+  }
+}
+
+// Stage 1: the time intervals that may hold a root of the coplanarity cubic, in increasing
+// order. Returns how many were written.
+int coplanarity_intervals(const Query& q, std::array<TimeInterval, kMaxTimeIntervals>& out) {
+  Vec3 u0, v0, w0, u1, v1, w1;
+  coplanarity_vectors(q.feature, q.start, u0, v0, w0);
+  coplanarity_vectors(q.feature, q.end, u1, v1, w1);
+  // f(t) = det[(1-t) u0 + t u1, ...]: the Bernstein coefficient k is the mean of the
+  // determinants that take k of their three vectors from t = 1.
+  std::array<Real, 4> b{};
+  b[0] = triple(u0, v0, w0);
+  b[1] = (triple(u1, v0, w0) + triple(u0, v1, w0) + triple(u0, v0, w1)) / 3;
+  b[2] = (triple(u0, v1, w1) + triple(u1, v0, w1) + triple(u1, v1, w0)) / 3;
+  b[3] = triple(u1, v1, w1);
+  // Each difference is at most 2M with error 2M u; a determinant has six triple products of
+  // such numbers and five sums: below 60 u (2M)^3 = 480 u M^3. Take four times that.
+  const Real m = q.magnitude;
+  const Real coefficient_error = 2048 * kUnitRoundoff * m * m * m;
+  Real largest = 0;
+  for (Real c : b)
+    largest = std::max(largest, std::abs(c));
+
+  struct Piece {
+    Real begin;
+    Real end;
+    std::array<Real, 4> b;
+    int depth;
+  };
+  std::array<Piece, 2 * kMaxCubicDepth + 2> stack{};
+  int top = 0;
+  stack[top++] = {0, 1, b, 0};
+  int count = 0;
+  while (top > 0) {
+    const Piece p = stack[--top];
+    // De Casteljau halving adds at most three roundings of size u * largest per level.
+    const Real bound = coefficient_error + 4 * (p.depth + 1) * kUnitRoundoff * largest;
+    const Real lo = std::min({p.b[0], p.b[1], p.b[2], p.b[3]});
+    const Real hi = std::max({p.b[0], p.b[1], p.b[2], p.b[3]});
+    if (lo > bound || hi < -bound)
+      continue;  // one sign throughout: no root here
+    const bool flat = lo >= -bound && hi <= bound;
+    if (flat || p.depth == kMaxCubicDepth) {
+      if (count > 0 && out[count - 1].end == p.begin) {
+        out[count - 1].end = p.end;  // adjacent: merge
+      } else if (count == kMaxTimeIntervals) {
+        out[count - 1].end = p.end;  // full: widen the last one (still covers every root)
+      } else {
+        out[count++] = {p.begin, p.end};
+      }
+      continue;
+    }
+    const Real mid = Real(0.5) * (p.begin + p.end);
+    const Real b01 = Real(0.5) * (p.b[0] + p.b[1]);
+    const Real b12 = Real(0.5) * (p.b[1] + p.b[2]);
+    const Real b23 = Real(0.5) * (p.b[2] + p.b[3]);
+    const Real b012 = Real(0.5) * (b01 + b12);
+    const Real b123 = Real(0.5) * (b12 + b23);
+    const Real b0123 = Real(0.5) * (b012 + b123);
+    // Later half first, so that the earlier half is taken off the stack first.
+    stack[top++] = {mid, p.end, {b0123, b123, b23, p.b[3]}, p.depth + 1};
+    stack[top++] = {p.begin, mid, {p.b[0], b01, b012, b0123}, p.depth + 1};
+  }
+  return count;
+}
+
+struct Box {
+  Real t0, t1, u0, u1, v0, v1;
+};
+
+void positions_at(const Query& q, Real t, std::array<Vec3, 4>& x) {
+  const Real s = 1 - t;  // exact: t is dyadic
+  for (int i = 0; i < 4; ++i)
+    x[i] = s * q.start[i] + t * q.end[i];
+}
+
+Vec3 residual(Feature feature, const std::array<Vec3, 4>& x, Real u, Real v) {
+  if (feature == Feature::vertex_face)
+    return (x[0] - x[1]) - u * (x[2] - x[1]) - v * (x[3] - x[1]);
+  return (x[0] + u * (x[1] - x[0])) - (x[2] + v * (x[3] - x[2]));
+}
+
+enum class BoxVerdict : std::uint8_t { excluded, contact, split_t, split_u, split_v };
+
+BoxVerdict examine(const Query& q, const Box& box, Real residual_error, Real tolerance) {
+  if (q.feature == Feature::vertex_face && box.u0 + box.v0 > 1)
+    return BoxVerdict::excluded;  // wholly outside the triangle's parameter domain
+  std::array<Vec3, 4> x0;
+  std::array<Vec3, 4> x1;
+  positions_at(q, box.t0, x0);
+  positions_at(q, box.t1, x1);
+  // corner index: bit 0 = t, bit 1 = u, bit 2 = v.
+  std::array<Vec3, 8> f;
+  for (int c = 0; c < 8; ++c) {
+    f[c] = residual(q.feature, (c & 1) ? x1 : x0, (c & 2) ? box.u1 : box.u0,
+                    (c & 4) ? box.v1 : box.v0);
+  }
+  Vec3 lo = f[0];
+  Vec3 hi = f[0];
+  for (int c = 1; c < 8; ++c) {
+    lo = lo.cwiseMin(f[c]);
+    hi = hi.cwiseMax(f[c]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (lo[k] > residual_error || hi[k] < -residual_error)
+      return BoxVerdict::excluded;
+  }
+  if ((hi - lo).maxCoeff() <= tolerance)
+    return BoxVerdict::contact;
+  // How much each parameter spreads F: the largest change between corners differing in it.
+  std::array<Real, 3> spread{};
+  for (int c = 0; c < 8; ++c) {
+    for (int d = 0; d < 3; ++d) {
+      if (!(c & (1 << d)))
+        spread[d] = std::max(spread[d], (f[c | (1 << d)] - f[c]).cwiseAbs().maxCoeff());
+    }
+  }
+  const std::array<Real, 3> width = {box.t1 - box.t0, box.u1 - box.u0, box.v1 - box.v0};
+  int best = -1;
+  for (int d = 0; d < 3; ++d) {
+    if (width[d] > kMinParameterWidth && (best < 0 || spread[d] > spread[best]))
+      best = d;
+  }
+  if (best < 0)
+    return BoxVerdict::contact;  // cannot split further: conservatively a contact
+  return best == 0 ? BoxVerdict::split_t : best == 1 ? BoxVerdict::split_u : BoxVerdict::split_v;
+}
+
+// Stage 2 on one time interval. Returns true with `toi` at the earliest contact box found.
+// `boxes_left` counts down; at zero the search stops and reports the earliest open time.
+bool search_interval(const Query& q, const TimeInterval& interval, Real tolerance,
+                     Real residual_error, std::int32_t& boxes_left, MeshCcdResult& result) {
+  std::array<Box, kStackSize> stack;
+  int top = 0;
+  stack[top++] = {interval.begin, interval.end, 0, 1, 0, 1};
+  bool found = false;
+  Real best = interval.end;
+  while (top > 0) {
+    const Box box = stack[--top];
+    if (found && box.t0 >= best)
+      continue;
+    if (boxes_left == 0) {
+      Real earliest = box.t0;
+      for (int i = 0; i < top; ++i)
+        earliest = std::min(earliest, stack[i].t0);
+      result.status = MeshCcdStatus::max_iterations;
+      result.time_of_impact = found ? std::min(best, earliest) : earliest;
+      return true;
+    }
+    --boxes_left;
+    ++result.boxes;
+    switch (examine(q, box, residual_error, tolerance)) {
+      case BoxVerdict::excluded:
+        break;
+      case BoxVerdict::contact:
+        found = true;
+        best = std::min(best, box.t0);
+        break;
+      case BoxVerdict::split_t: {
+        const Real mid = Real(0.5) * (box.t0 + box.t1);
+        stack[top++] = {mid, box.t1, box.u0, box.u1, box.v0, box.v1};
+        stack[top++] = {box.t0, mid, box.u0, box.u1, box.v0, box.v1};
+        break;
+      }
+      case BoxVerdict::split_u: {
+        const Real mid = Real(0.5) * (box.u0 + box.u1);
+        stack[top++] = {box.t0, box.t1, mid, box.u1, box.v0, box.v1};
+        stack[top++] = {box.t0, box.t1, box.u0, mid, box.v0, box.v1};
+        break;
+      }
+      case BoxVerdict::split_v: {
+        const Real mid = Real(0.5) * (box.v0 + box.v1);
+        stack[top++] = {box.t0, box.t1, box.u0, box.u1, mid, box.v1};
+        stack[top++] = {box.t0, box.t1, box.u0, box.u1, box.v0, mid};
+        break;
+      }
+    }
+  }
+  if (found) {
+    result.status = MeshCcdStatus::hit;
+    result.time_of_impact = best;
+  }
+  return found;
+}
+
+MeshCcdResult feature_ccd(Feature feature, const std::array<Vec3, 4>& start,
+                          const std::array<Vec3, 4>& end, const MeshCcdSettings& settings) {
+  MeshCcdResult result;
+  Query q{feature, start, end, 0};
+  for (int i = 0; i < 4; ++i) {
+    if (!start[i].allFinite() || !end[i].allFinite()) {
+      result.status = MeshCcdStatus::invalid_input;
+      result.time_of_impact = 0;
+      return result;
+    }
+    q.magnitude =
+        std::max({q.magnitude, start[i].cwiseAbs().maxCoeff(), end[i].cwiseAbs().maxCoeff()});
+  }
+  // A residual at a corner is a handful of interpolations, differences and products of numbers
+  // below 2M with |u|, |v| <= 1: below 40 u M. Take ten times that, plus the smallest normal
+  // number so that underflow cannot hide a contact.
+  const Real residual_error = 512 * kUnitRoundoff * q.magnitude + std::numeric_limits<Real>::min();
+  const Real tolerance = settings.tolerance > 0 ? settings.tolerance : MeshCcdSettings{}.tolerance;
+
+  std::array<TimeInterval, kMaxTimeIntervals> intervals;
+  const int count = coplanarity_intervals(q, intervals);
+  std::int32_t boxes_left = std::max<std::int32_t>(1, settings.max_boxes);
+  for (int i = 0; i < count; ++i) {
+    if (search_interval(q, intervals[i], tolerance, residual_error, boxes_left, result))
+      return result;
+  }
+  return result;
+}
+
+}  // namespace
+
+MeshCcdResult vertex_face_ccd(const std::array<Vec3, 4>& start, const std::array<Vec3, 4>& end,
+                              const MeshCcdSettings& settings) {
+  return feature_ccd(Feature::vertex_face, start, end, settings);
+}
+
+MeshCcdResult edge_edge_ccd(const std::array<Vec3, 4>& start, const std::array<Vec3, 4>& end,
+                            const MeshCcdSettings& settings) {
+  return feature_ccd(Feature::edge_edge, start, end, settings);
+}
+
+std::string_view mesh_ccd_status_name(MeshCcdStatus status) {
+  switch (status) {
+    case MeshCcdStatus::separated:
+      return "separated";
+    case MeshCcdStatus::hit:
+      return "hit";
+    case MeshCcdStatus::max_iterations:
+      return "max_iterations";
+    case MeshCcdStatus::invalid_input:
+      return "invalid_input";
+  }
+  return "unknown";
+}
+
+}  // namespace tumble

@@ -1,0 +1,24 @@
+// Ray casts against every primitive shape (Ericson, Real-Time Collision Detection, 2005: 5.3.2
+// ray-sphere, 5.3.3 ray-box slabs, 5.3.7 ray-cylinder; a capsule is its side plus two spheres).
+#pragma once
+
+#include "collision/shape.hpp"
+
+namespace tumble {
+
+struct RayHit {
+  bool hit = false;
+  // Where along the ray the surface is first met: point = origin + fraction * delta, in [0, 1].
+  // A ray starting inside the shape hits at fraction 0.
+  Real fraction = 1;
+  Vec3 normal = Vec3::UnitZ();  // outward surface normal at the hit (world); -delta/|delta| at 0
+};
+
+// The segment from `origin` to `origin + delta` (world) against `shape` at `pose`.
+RayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta);
+
+// Signed distance of a world point to the shape's surface (negative inside) [m]; exact for the
+// primitives. The brute-force check of the ray casts and a helper for tests.
+Real signed_distance(const Shape& shape, const Transform& pose, const Vec3& point);
+
+}  // namespace tumble

@@ -1,0 +1,33 @@
+// A lower bound of the distance between two posed shapes, with the axis it is measured along:
+// the query conservative advancement needs (collision/ccd/conservative_advancement.hpp). Today
+// it uses the exact closest-feature pairs of the narrow phase and, for box against box, the
+// separating-axis bound; GJK replaces the latter when it lands.
+#pragma once
+
+#include "collision/shape.hpp"
+
+namespace tumble {
+
+struct DistanceBound {
+  // A lower bound of the distance [m]: the shapes are at least this far apart along `normal`
+  // (the support of A along -normal lies at least this far beyond the support of B along
+  // normal). Negative when they overlap (then minus a penetration depth).
+  Real distance = 0;
+  Vec3 normal = Vec3::UnitZ();  // unit, from B to A
+  // False when the shapes are farther than asked and no axis was measured: then `normal` means
+  // nothing and only the unprojected speed bounds the approach.
+  bool has_normal = true;
+};
+
+// `max_distance`: beyond it the answer may be any bound >= max_distance [m].
+DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
+                                   const Transform& pose_b, Real max_distance);
+
+// Separating-axis lower bound of the distance between two boxes: the largest gap along the 15
+// axes of the box-box test (3 + 3 face normals, 9 edge cross products). It equals the distance
+// when a face or an edge pair is closest and is below it otherwise (Gottschalk, Lin and
+// Manocha, "OBBTree", SIGGRAPH 1996; Ericson, Real-Time Collision Detection, 4.4.1).
+DistanceBound box_box_separation(const Vec3& half_a, const Transform& pose_a, const Vec3& half_b,
+                                 const Transform& pose_b);
+
+}  // namespace tumble
