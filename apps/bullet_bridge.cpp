@@ -57,8 +57,9 @@ void list_fixed_mismatches(const Scene& scene, const BulletSettings& s,
                 " m/s); Bullet uses split impulse with erp2 0.8 and no slop");
   out.push_back("contact margin: tumble creates contacts " + std::to_string(w.contact_margin) +
                 " m before touching plus the step's reach (speculative); Bullet keeps manifold "
-                "points up to its contact breaking threshold (0.02 m) and has no speculative "
-                "contacts");
+                "points whose gap is below gContactBreakingThreshold (" +
+                std::to_string(s.contact_breaking_threshold) +
+                ") times the shape's bounding radius and has no speculative contacts");
   out.push_back("solver passes: tumble runs " + std::to_string(w.iterations) + " soft + " +
                 std::to_string(w.relax_iterations) +
                 " relax passes per substep; Bullet runs m_numIterations = " +

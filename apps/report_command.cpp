@@ -176,6 +176,17 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// Gnuplot's single-quoted strings take no escapes; a quote is written twice.
+std::string gnuplot_quote(const std::string& s) {
+  std::string q = "'";
+  for (char ch : s) {
+    q += ch;
+    if (ch == '\'')
+      q += '\'';
+  }
+  return q + "'";
+}
+
 }  // namespace
 
 int report_command(const ReportOptions& options) {
@@ -367,15 +378,16 @@ int report_command(const ReportOptions& options) {
   if (!options.no_plot) {
     std::ostringstream gp;
     gp << "set terminal pngcairo size 1000,700\nset output "
-       << shell_quote((dir / "report.png").string())
+       << gnuplot_quote((dir / "report.png").string())
        << "\nset logscale xy\nset grid\nset key outside right\n"
        << "set xlabel 'wall time per simulated second [s]'\nset ylabel 'error [m]'\n"
        << "set title "
-       << shell_quote("error against run time: " + options.scene.filename().string()) << "\nplot ";
+       << gnuplot_quote("error against run time: " + options.scene.filename().string())
+       << "\nplot ";
     int index = 0;
     for (const auto& [name, points] : curves) {
-      gp << (index > 0 ? ", " : "") << shell_quote((dir / "report.dat").string()) << " index "
-         << index << " with linespoints title " << shell_quote(name);
+      gp << (index > 0 ? ", " : "") << gnuplot_quote((dir / "report.dat").string()) << " index "
+         << index << " with linespoints title " << gnuplot_quote(name);
       ++index;
     }
     gp << "\n";
