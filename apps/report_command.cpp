@@ -106,12 +106,13 @@ RunResult run(const Scene& base, const Config& c, const std::vector<std::int64_t
     }
     r.wall += std::chrono::duration<double>(Clock::now() - t0).count();
   } else {
-    BulletSettings s;
+    // The contact thresholds that let Bullet model the scene's physics (bullet_bridge.hpp),
+    // with the swept step, substeps, iterations and solver.
+    BulletSettings s = matching_bullet_settings(base);
     s.dt = scene->world.dt;
     s.substeps = c.substeps;
     s.iterations = c.iterations;
     s.solver = c.bullet_solver;
-    s.restitution_threshold = base.world.restitution_threshold;
     BulletWorld bullet(*scene, s);
     std::size_t mark = 0;
     const auto t0 = Clock::now();
@@ -273,7 +274,10 @@ int report_command(const ReportOptions& options) {
                     kReferenceDivisor, scene_substeps, scene_iterations};
   const RunResult tumble_fine = run(base, tumble_ref, marks);
   RunResult bullet_fine;
-  Config bullet_ref{"bullet", "bullet_si", "reference", kReferenceDivisor, 1, 10};
+  // Bullet's reference takes the scene's substeps too, so both references integrate free
+  // motion with the same internal step.
+  Config bullet_ref{"bullet",          "bullet_si",    "reference",
+                    kReferenceDivisor, scene_substeps, matching_bullet_settings(base).iterations};
   if (with_bullet)
     bullet_fine = run(base, bullet_ref, marks);
   const RunResult& shared = has_analytic ? analytic : tumble_fine;
@@ -289,7 +293,15 @@ int report_command(const ReportOptions& options) {
   std::vector<Row> rows;
   const Real simulated = static_cast<Real>(marks.back()) * coarse_dt;
   for (const Config& c : configs) {
-    const RunResult r = run(base, c, marks);
+    // Short runs are repeated (up to 5 times, while under 0.2 s in all) and the fastest wall
+    // time kept, so that a scheduler hiccup does not pass for a setting's cost.
+    RunResult r = run(base, c, marks);
+    double spent = r.wall;
+    for (int repeat = 1; repeat < 5 && spent < 0.2; ++repeat) {
+      const double wall = run(base, c, marks).wall;
+      spent += wall;
+      r.wall = std::min(r.wall, wall);
+    }
     const RunResult& own = c.engine == "tumble" ? tumble_fine : bullet_fine;
     rows.push_back({c, r.dt, r.wall / simulated, track_error(base, chaotic, r, shared),
                     track_error(base, chaotic, r, own)});
@@ -349,7 +361,9 @@ int report_command(const ReportOptions& options) {
      << "- Error: " << metric << (chaotic ? " (a chaotic scene: paths are not comparable)" : "")
      << ", against " << reference << ".\n"
      << "- `self_error`: against the same engine's own converged run at dt / 16 (tumble: the "
-        "scene's substeps and iterations; Bullet: 1 substep, 10 iterations, split impulse).\n";
+        "scene's substeps and iterations; Bullet: the same substeps, iterations + relax "
+        "iterations, "
+        "split impulse).\n";
   if (with_bullet) {
     md << "- The two converged runs differ by " << reference_gap
        << " m (same metric): the floor below which the engines' models, not their step "
@@ -377,9 +391,10 @@ int report_command(const ReportOptions& options) {
   // Plot.
   if (!options.no_plot) {
     std::ostringstream gp;
-    gp << "set terminal pngcairo size 1000,700\nset output "
+    gp << "set terminal pngcairo noenhanced size 1100,700\nset output "
        << gnuplot_quote((dir / "report.png").string())
-       << "\nset logscale xy\nset grid\nset key outside right\n"
+       << "\nset logscale xy\nset grid\nset key outside right\nset format x '%.0e'\n"
+       << "set format y '%.0e'\n"
        << "set xlabel 'wall time per simulated second [s]'\nset ylabel 'error [m]'\n"
        << "set title "
        << gnuplot_quote("error against run time: " + options.scene.filename().string())
