@@ -56,7 +56,8 @@ using Track = std::vector<std::vector<Vec3>>;
 
 struct RunResult {
   Track track;
-  std::vector<Vec3> com;  // centre of mass per checkpoint
+  std::vector<std::vector<Quat>> turns;  // orientation of every body at each checkpoint
+  std::vector<Vec3> com;                 // centre of mass per checkpoint
   double wall = 0;
   Real dt = 0;
 };
@@ -88,6 +89,10 @@ RunResult run(const Scene& base, const Config& c, const std::vector<std::int64_t
     for (std::size_t i = 0; i < n; ++i)
       p[i] = bodies[i].position;
     r.track.push_back(std::move(p));
+    std::vector<Quat> q(n);
+    for (std::size_t i = 0; i < n; ++i)
+      q[i] = bodies[i].orientation;
+    r.turns.push_back(std::move(q));
     r.com.push_back(pile_statistics(*scene, bodies).centre_of_mass);
   };
   const std::int64_t last = coarse_marks.back() * per;
@@ -142,6 +147,18 @@ Real track_error(const Scene& scene, bool chaotic, const RunResult& a, const Run
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
       if (!scene.bodies[i].is_static)
         e = std::max(e, (a.track[k][i] - b.track[k][i]).norm());
+    }
+  }
+  return e;
+}
+
+// Largest orientation angle between two runs over checkpoints and dynamic bodies [rad].
+Real turn_error(const Scene& scene, const RunResult& a, const RunResult& b) {
+  Real e = 0;
+  for (std::size_t k = 0; k < a.turns.size() && k < b.turns.size(); ++k) {
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      if (!scene.bodies[i].is_static)
+        e = std::max(e, orientation_error(a.turns[k][i], b.turns[k][i]));
     }
   }
   return e;
@@ -281,14 +298,16 @@ int report_command(const ReportOptions& options) {
   if (with_bullet)
     bullet_fine = run(base, bullet_ref, marks);
   const RunResult& shared = has_analytic ? analytic : tumble_fine;
-  const Real reference_gap = with_bullet ? track_error(base, chaotic, tumble_fine, bullet_fine) : 0;
+  Real reference_gap = with_bullet ? track_error(base, chaotic, tumble_fine, bullet_fine) : 0;
 
   struct Row {
     Config c;
     Real dt;
     double wall_per_second;
-    Real error;       // against the shared reference
-    Real self_error;  // against the same engine's converged run
+    Real error;            // against the shared reference
+    Real self_error;       // against the same engine's converged run
+    Real turn_error;       // orientation against tumble's converged run [rad]
+    Real turn_self_error;  // orientation against the same engine's converged run [rad]
   };
   std::vector<Row> rows;
   const Real simulated = static_cast<Real>(marks.back()) * coarse_dt;
@@ -304,23 +323,39 @@ int report_command(const ReportOptions& options) {
     }
     const RunResult& own = c.engine == "tumble" ? tumble_fine : bullet_fine;
     rows.push_back({c, r.dt, r.wall / simulated, track_error(base, chaotic, r, shared),
-                    track_error(base, chaotic, r, own)});
+                    track_error(base, chaotic, r, own), turn_error(base, r, tumble_fine),
+                    turn_error(base, r, own)});
     std::cerr << "  " << label(c) << " dt " << r.dt << " substeps " << c.substeps << " iterations "
               << c.iterations << ": error " << rows.back().error << " m, "
               << rows.back().wall_per_second << " s per simulated s\n";
   }
 
-  const std::string metric = chaotic ? "largest centre-of-mass distance over 10 checkpoints [m]"
-                                     : "largest body position distance over 10 checkpoints [m]";
-  const std::string reference = has_analytic
+  // A scene whose bodies only turn (a free spinning box) is judged by orientation instead.
+  const bool rotation_only =
+      !chaotic && std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.error == 0; });
+  if (rotation_only) {
+    reference_gap = with_bullet ? turn_error(base, tumble_fine, bullet_fine) : 0;
+    for (Row& r : rows) {
+      r.error = r.turn_error;
+      r.self_error = r.turn_self_error;
+    }
+  }
+  const std::string metric = rotation_only
+                                 ? "largest body orientation angle over 10 checkpoints [rad] "
+                                   "(positions agree exactly: the bodies only turn)"
+                             : chaotic ? "largest centre-of-mass distance over 10 checkpoints [m]"
+                                       : "largest body position distance over 10 checkpoints [m]";
+  const std::string reference = rotation_only ? "tumble's converged run at dt / 16"
+                                : has_analytic
                                     ? "the analytic parabola (a single body with nothing to hit)"
                                     : "tumble's converged run at dt / 16";
+  const std::string unit = rotation_only ? "[rad]" : "[m]";
   // CSV.
   {
     AtomicFile f(dir / "report.csv");
     auto& o = f.stream();
     o << "engine,solver,family,dt,substeps,iterations,wall_per_simulated_second,error,"
-         "self_error\n";
+         "self_error,orientation_error\n";
     for (const Row& r : rows) {
       o << r.c.engine << ',' << r.c.solver << ',' << r.c.family << ',';
       write_number(o, r.dt);
@@ -330,6 +365,8 @@ int report_command(const ReportOptions& options) {
       write_number(o, r.error);
       o << ',';
       write_number(o, r.self_error);
+      o << ',';
+      write_number(o, r.turn_error);
       o << '\n';
     }
     f.commit();
@@ -366,13 +403,13 @@ int report_command(const ReportOptions& options) {
         "split impulse).\n";
   if (with_bullet) {
     md << "- The two converged runs differ by " << reference_gap
-       << " m (same metric): the floor below which the engines' models, not their step "
+       << " (same metric): the floor below which the engines' models, not their step "
           "sizes, decide the answer.\n";
   }
   md << "- Run time: wall-clock seconds per simulated second, one core.\n\n"
      << "![error against run time](report.png)\n\n"
-     << "| engine | solver | family | dt [s] | substeps | iterations | wall / sim s | error [m] "
-        "| self_error [m] |\n|---|---|---|---|---|---|---|---|---|\n";
+     << "| engine | solver | family | dt [s] | substeps | iterations | wall / sim s | error "
+     << unit << " | self_error " << unit << " |\n|---|---|---|---|---|---|---|---|---|\n";
   char buffer[256];
   for (const Row& r : rows) {
     std::snprintf(buffer, sizeof buffer, "| %s | %s | %s | %.6g | %d | %d | %.3g | %.3g | %.3g |\n",
@@ -395,7 +432,7 @@ int report_command(const ReportOptions& options) {
        << gnuplot_quote((dir / "report.png").string())
        << "\nset logscale xy\nset grid\nset key outside right\nset format x '%.0e'\n"
        << "set format y '%.0e'\n"
-       << "set xlabel 'wall time per simulated second [s]'\nset ylabel 'error [m]'\n"
+       << "set xlabel 'wall time per simulated second [s]'\nset ylabel 'error " << unit << "'\n"
        << "set title "
        << gnuplot_quote("error against run time: " + options.scene.filename().string())
        << "\nplot ";

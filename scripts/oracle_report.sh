@@ -23,5 +23,6 @@ for scene in pyramid_20 bullet_1000_stack bullet_3000_boxes; do
   # Per-body errors of a thousand bodies are large and say little for a chaotic scene.
   rm -f "docs/reports/compare/$scene/errors.csv"
 done
+mkdir -p docs/benchmarks
 echo "== bench"
 "$TUMBLE" bench scenes/bench/*.yaml --repetitions 3 -o docs/benchmarks | tee docs/benchmarks/oracle_bench.txt

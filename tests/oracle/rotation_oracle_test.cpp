@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "apps/oracle_metrics.hpp"
 #include "oracle_fixture.hpp"
@@ -83,6 +84,9 @@ TEST(RotationOracle, DifferenceIsBulletsFirstOrderIntegratorError) {
   const Real dt = test::oracle_scene("spinning_box.yaml")->world.dt;
   const RotationErrors coarse = measure(dt);
   const RotationErrors half = measure(dt / 2);
+  std::cout << "rotation, 10 s: tumble-Bullet " << coarse.difference << " rad (" << half.difference
+            << " at dt/2); against RK4: tumble " << coarse.tumble << " (" << half.tumble
+            << "), Bullet " << coarse.bullet << " (" << half.bullet << ")\n";
   // Measured 0.0455 rad over 10 s at the scene's step.
   EXPECT_LE(coarse.difference, 0.06);
   EXPECT_GT(coarse.difference, 1e-4);  // the integrators do differ
