@@ -46,7 +46,7 @@ namespace {
 
 // The settings that cannot match whatever the bridge does; the Bullet side is independent of
 // how it was built, so these are listed for every scene.
-void list_fixed_mismatches(const Scene& scene, const BulletSettings& s,
+[[maybe_unused]] void list_fixed_mismatches(const Scene& scene, const BulletSettings& s,
                            std::vector<std::string>& out) {
   const WorldSettings& w = scene.world;
   out.push_back("position correction: tumble uses soft contacts (contact_hertz " +
