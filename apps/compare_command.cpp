@@ -135,7 +135,9 @@ CompareResult compare_scene(const std::shared_ptr<const Scene>& scene, std::int6
       << " (Bullet), final energy within " << r.final_energy_error << " J";
     r.verdict = v.str();
   } else {
-    r.verdict = position_verdict(r.max_position_error, r.scene_size);
+    r.verdict = position_verdict(r.max_position_error, r.scene_size) +
+                "; largest orientation difference " + std::to_string(r.max_orientation_error) +
+                " rad";
   }
   return r;
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "collision/shape.hpp"
 
@@ -67,14 +69,16 @@ Real scene_size(const Scene& scene) {
 
 std::string position_verdict(Real max_position_error, Real size) {
   const Real relative = max_position_error / size;
+  char amount[96];
+  std::snprintf(amount, sizeof amount, "max position error %.3g m, %.3g of the scene size",
+                max_position_error, relative);
   if (relative <= Real(1e-9))
-    return "identical to rounding (max position error " + std::to_string(relative) +
-           " of the scene size)";
+    return std::string("paths identical to rounding (") + amount + ")";
   if (relative <= Real(1e-3))
-    return "agree closely (max position error below 0.1% of the scene size)";
+    return std::string("paths agree closely (") + amount + ", below 0.1%)";
   if (relative <= Real(5e-2))
-    return "agree roughly (max position error below 5% of the scene size)";
-  return "paths differ (max position error above 5% of the scene size)";
+    return std::string("paths agree roughly (") + amount + ", below 5%)";
+  return std::string("paths differ (") + amount + ", above 5%)";
 }
 
 }  // namespace tumble::app
