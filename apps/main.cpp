@@ -4,8 +4,12 @@
 #include <cmath>
 #include <exception>
 #include <iostream>
+#include <map>
 
 #include "apps/ccd_command.hpp"
+#include "apps/bench_command.hpp"
+#include "apps/compare_command.hpp"
+#include "apps/report_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
@@ -73,6 +77,54 @@ int main(int argc, char** argv) {
   ccd_cmd->add_option("--tolerance", ccd.tolerance, "Contact tolerance in m (default 1e-6)")
       ->check(kFinitePositive);
 
+  // Bullet as oracle (apps/bullet_bridge.hpp): compare, report, bench.
+  tumble::app::CompareOptions compare;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Run a scene in tumble and in Bullet side by side and write their differences");
+  compare_cmd->add_option("scene", compare.scene, "Scene file (YAML)")->required();
+  compare_cmd->add_option("-o,--output", compare.output_dir,
+                          "Output directory (default out/<scene name>-compare)");
+  compare_cmd
+      ->add_option("--mode", compare.mode,
+                   "paths (per-body errors), statistics (chaotic scenes) or auto")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, tumble::app::CompareMode>{
+              {"auto", tumble::app::CompareMode::automatic},
+              {"paths", tumble::app::CompareMode::paths},
+              {"statistics", tumble::app::CompareMode::statistics}},
+          CLI::ignore_case));
+  compare_cmd->add_option("--steps", compare.steps, "Number of steps (overrides the scene)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+  compare_cmd->add_flag("-q,--quiet", compare.quiet, "Print only the JSON summary");
+  compare_cmd
+      ->add_option("--bullet-breaking-threshold", compare.bullet_breaking_threshold,
+                   "Bullet's gContactBreakingThreshold factor (default 0.02)")
+      ->check(kFinitePositive);
+
+  tumble::app::ReportOptions report;
+  CLI::App* report_cmd = app.add_subcommand(
+      "report",
+      "Sweep time step, substeps, iterations and solver in tumble and Bullet; write "
+      "error against run time (CSV, Markdown, PNG)");
+  report_cmd->add_option("scene", report.scene, "Scene file (YAML)")->required();
+  report_cmd->add_option("-o,--output", report.output_dir,
+                         "Output directory (default out/<scene name>-report)");
+  report_cmd->add_option("--duration", report.duration, "Simulated time in s (default: scene)")
+      ->check(kFinitePositive);
+  report_cmd->add_flag("--no-plot", report.no_plot, "Skip the gnuplot PNG");
+  report_cmd->add_flag("--tumble-only", report.tumble_only, "Sweep tumble alone");
+
+  tumble::app::BenchOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "Time scenes in tumble and Bullet, alternating, with sleeping off");
+  bench_cmd->add_option("scenes", bench.scenes, "Scene files (default: scenes/bench/*.yaml)");
+  bench_cmd->add_option("-o,--output", bench.output_dir,
+                        "Directory for the CSV files (default docs/benchmarks)");
+  bench_cmd->add_option("--repetitions", bench.repetitions, "Runs of each engine per scene")
+      ->check(CLI::Range(1, 1000));
+  bench_cmd->add_option("--steps", bench.steps, "Steps per run (overrides the scene)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -91,6 +143,12 @@ int main(int argc, char** argv) {
       return tumble::app::validate_command(validate_scene);
     if (ccd_cmd->parsed())
       return tumble::app::ccd_command(ccd);
+    if (compare_cmd->parsed())
+      return tumble::app::compare_command(compare);
+    if (report_cmd->parsed())
+      return tumble::app::report_command(report);
+    if (bench_cmd->parsed())
+      return tumble::app::bench_command(bench);
   } catch (const tumble::SceneError& e) {
     std::cerr << e.what() << "\n";
     return 1;

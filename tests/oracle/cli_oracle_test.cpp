@@ -1,0 +1,114 @@
+// The oracle commands from the command line: compare prints a JSON summary with the required
+// keys, report writes its table and its tumble time-step family converges at first order
+// against the analytic parabola, bench writes its CSV.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;
+};
+
+Result run_cli(const std::string& arguments) {
+  const std::string command = std::string(TUMBLE_CLI) + " " + arguments + " 2>/dev/null";
+  Result r;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr)
+    return r;
+  std::array<char, 4096> buffer;
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    r.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tumble_oracle_" + name);
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+const std::string kScenes = std::string(TUMBLE_SOURCE_DIR) + "/scenes/";
+
+TEST(OracleCli, ComparePrintsJsonSummary) {
+  const auto dir = fresh_dir("compare");
+  const Result r = run_cli("compare " + kScenes + "free_flight.yaml -q -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j.at("mode"), "paths");
+  EXPECT_LE(j.at("max_position_error").get<double>(), 1e-9);
+  EXPECT_LE(j.at("max_orientation_error").get<double>(), 1e-12);
+  EXPECT_FALSE(j.at("mismatches").empty());
+  EXPECT_TRUE(std::filesystem::exists(dir / "errors.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "timeline.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "summary.json"));
+}
+
+TEST(OracleCli, CompareRejectsAMissingScene) {
+  const Result r = run_cli("compare /nonexistent/scene.yaml");
+  EXPECT_EQ(r.exit_code, 1);
+}
+
+TEST(OracleCli, ReportConvergesAtFirstOrderOnTheParabola) {
+  const auto dir = fresh_dir("report");
+  const Result r = run_cli("report " + kScenes + "free_flight.yaml --no-plot -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream csv(dir / "report.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::map<double, double> tumble_dt;  // dt -> error
+  int bullet_rows = 0;
+  while (std::getline(csv, line)) {
+    std::stringstream s(line);
+    std::string engine, solver, family, dt, substeps, iterations, wall, error;
+    std::getline(s, engine, ',');
+    std::getline(s, solver, ',');
+    std::getline(s, family, ',');
+    std::getline(s, dt, ',');
+    std::getline(s, substeps, ',');
+    std::getline(s, iterations, ',');
+    std::getline(s, wall, ',');
+    std::getline(s, error, ',');
+    if (engine == "bullet")
+      ++bullet_rows;
+    if (engine == "tumble" && family == "dt")
+      tumble_dt[std::stod(dt)] = std::stod(error);
+  }
+  EXPECT_GT(bullet_rows, 0);
+  ASSERT_EQ(tumble_dt.size(), 5u);
+  // Semi-implicit Euler's error on a parabola is exactly proportional to the step.
+  for (auto it = std::next(tumble_dt.begin()); it != tumble_dt.end(); ++it) {
+    const double ratio = it->second / std::prev(it)->second;
+    EXPECT_NEAR(ratio, it->first / std::prev(it)->first, 0.05);
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "report.md"));
+}
+
+TEST(OracleCli, BenchWritesCsv) {
+  const auto dir = fresh_dir("bench");
+  const Result r =
+      run_cli("bench " + kScenes + "free_flight.yaml --repetitions 2 --steps 5 -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ratio tumble / Bullet"), std::string::npos);
+  std::ifstream csv(dir / "oracle_bench.csv");
+  std::string header, tumble, bullet;
+  std::getline(csv, header);
+  std::getline(csv, tumble);
+  std::getline(csv, bullet);
+  EXPECT_EQ(tumble.rfind("free_flight,1,5,2,tumble,", 0), 0u) << tumble;
+  EXPECT_EQ(bullet.rfind("free_flight,1,5,2,bullet,", 0), 0u) << bullet;
+}
+
+}  // namespace
