@@ -444,14 +444,15 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     m.arrow_length = Real(0.6) * radii[radii.size() / 2];
   }
 
-  // Light from above, behind the camera and a little to its left, so that every face the camera
-  // sees is lit and the faces differ in brightness (form), and shadows fall away from the viewer.
+  // Light from above, over the camera's left shoulder: faces the camera sees differ in brightness
+  // (form), and shadows fall to the right and back where the camera sees them.
   const Vec3 forward = (m.camera.target - m.camera.position).normalized();
   Vec3 right = forward.cross(Vec3::UnitZ());
   right = right.norm() > 1e-6 ? right.normalized() : Vec3::UnitX();
   Vec3 towards_camera(-forward.x(), -forward.y(), 0);
   towards_camera = towards_camera.norm() > 1e-6 ? towards_camera.normalized() : Vec3::Zero();
-  m.light = (Real(1.2) * Vec3::UnitZ() - Real(0.25) * right + towards_camera).normalized();
+  m.light =
+      (Real(1.3) * Vec3::UnitZ() - Real(0.6) * right + Real(0.8) * towards_camera).normalized();
 
   const Real distance = (m.camera.target - m.camera.position).norm();
   const Real extent = (bounds.max - bounds.min).norm() + 20;
@@ -508,8 +509,8 @@ void Renderer::render(const World& world, Image& image) {
   // One directional light with ambient; set after the view so its direction is in world space.
   const GLfloat light_direction[4] = {float(m.light.x()), float(m.light.y()), float(m.light.z()),
                                       0};
-  const GLfloat ambient[4] = {0.35f, 0.35f, 0.37f, 1};
-  const GLfloat diffuse[4] = {0.80f, 0.80f, 0.78f, 1};
+  const GLfloat ambient[4] = {0.42f, 0.42f, 0.44f, 1};
+  const GLfloat diffuse[4] = {0.72f, 0.72f, 0.70f, 1};
   const GLfloat specular[4] = {0.25f, 0.25f, 0.25f, 1};
   const GLfloat no_global_ambient[4] = {0, 0, 0, 1};
   glLightModelfv(GL_LIGHT_MODEL_AMBIENT, no_global_ambient);
