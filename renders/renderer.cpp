@@ -436,7 +436,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
       m.floors.push_back(make_floor(body, bounds, m.camera.target));
       continue;
     }
-    m.meshes.push_back(to_draw_mesh(tessellate(body.shape, detail)));
+    m.meshes.push_back(to_draw_mesh(settings.generic_meshes
+                                        ? tessellate_convex_support(body.shape, detail)
+                                        : tessellate(body.shape, detail)));
     radii.push_back(bounding_radius(body.shape));
   }
   if (!radii.empty()) {

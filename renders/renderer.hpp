@@ -35,6 +35,9 @@ struct RenderSettings {
   int height = 720;
   int supersample = 2;  // renders at supersample x size and box-filters down (anti-aliasing)
   bool shadows = true;
+  // Draw every bounded shape through the generic support-map mesh, even those with a dedicated
+  // one (to check that path against the dedicated meshes).
+  bool generic_meshes = false;
   std::uint32_t overlays = 0;  // bit (1 << Overlay)
   // The camera; empty: the scene's, else framed around the bodies of the initial state.
   std::optional<Camera> camera;

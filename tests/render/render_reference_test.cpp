@@ -153,6 +153,16 @@ TEST(RenderReference, ComparisonRejectsWrongRenders) {
   EXPECT_TRUE(matches(compare_images(render_scene(kShapes, 0, {}), expected, kPixelThreshold)));
 }
 
+// The generic support-map mesh, which new convex shapes render through, draws the same picture
+// as the dedicated sphere, box and capsule meshes.
+TEST(RenderReference, GenericMeshesDrawTheSamePicture) {
+  RenderSettings generic;
+  generic.generic_meshes = true;
+  const ImageDifference d = compare_images(render_scene(kShapes, 0, generic),
+                                           render_scene(kShapes, 0, {}), kPixelThreshold);
+  EXPECT_TRUE(matches(d)) << d.mean_absolute << " " << d.fraction_different;
+}
+
 // Independent of references: a lone sphere straight ahead of the camera covers the image
 // centre in its own colour, the corners show the background, and the lit top is brighter than
 // the underside.
