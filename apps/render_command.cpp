@@ -8,6 +8,8 @@
 #include <memory>
 #include <regex>
 
+#include <unistd.h>
+
 #include "engine/world.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -36,37 +38,47 @@ extern "C" void on_render_interrupt(int) {
   g_interrupted = 1;
 }
 
-// One line on stderr, redrawn in place at most ten times a second.
+// One line on stderr, redrawn in place at most ten times a second on a terminal; into a log
+// file or pipe, one line per tenth of the frames instead.
 class ProgressBar {
  public:
   ProgressBar(std::int64_t total, bool enabled)
-      : total_(total), enabled_(enabled), start_(std::chrono::steady_clock::now()) {}
+      : total_(total),
+        enabled_(enabled),
+        terminal_(::isatty(STDERR_FILENO) != 0),
+        start_(std::chrono::steady_clock::now()) {}
 
   void update(std::int64_t done) {
     if (!enabled_)
       return;
     const auto now = std::chrono::steady_clock::now();
-    if (done < total_ && now - last_ < std::chrono::milliseconds(100))
+    if (terminal_) {
+      if (done < total_ && now - last_ < std::chrono::milliseconds(100))
+        return;
+    } else if (done < total_ && (10 * done) / total_ == (10 * (done - 1)) / total_) {
       return;
+    }
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double rate = elapsed > 0 ? done / elapsed : 0;
     const double left = rate > 0 ? (total_ - done) / rate : 0;
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(kWidth * done / std::max<std::int64_t>(total_, 1));
-    std::fprintf(stderr, "\r[%s%s] %lld/%lld frames  %5.1f fps  %5.1f s left ",
-                 std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(),
-                 static_cast<long long>(done), static_cast<long long>(total_), rate, left);
+    std::fprintf(stderr, "%s[%s%s] %lld/%lld frames  %5.1f fps  %5.1f s left %s",
+                 terminal_ ? "\r" : "", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), static_cast<long long>(done),
+                 static_cast<long long>(total_), rate, left, terminal_ ? "" : "\n");
     std::fflush(stderr);
   }
   void finish() {
-    if (enabled_)
+    if (enabled_ && terminal_)
       std::fprintf(stderr, "\n");
   }
 
  private:
   std::int64_t total_;
   bool enabled_;
+  bool terminal_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_{};
 };

@@ -48,9 +48,9 @@ struct RenderSettings {
 
 class Renderer {
  public:
-  // Builds the meshes of every body and an OSMesa context. Throws std::invalid_argument for
-  // sizes outside 16..8192 or a supersample outside 1..4, and std::runtime_error when OSMesa
-  // cannot create the context.
+  // Builds the meshes of every body and an OSMesa context; `scene` must outlive the renderer.
+  // Throws std::invalid_argument for sizes outside 16..8192, a supersample outside 1..4 or a
+  // shape it cannot draw, and std::runtime_error when OSMesa cannot create the context.
   Renderer(const Scene& scene, const RenderSettings& settings);
   ~Renderer();
   Renderer(const Renderer&) = delete;
