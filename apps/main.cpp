@@ -10,6 +10,7 @@
 #include "apps/bench_command.hpp"
 #include "apps/compare_command.hpp"
 #include "apps/report_command.hpp"
+#include "apps/render_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
@@ -124,6 +125,31 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   bench_cmd->add_option("--steps", bench.steps, "Steps per run (overrides the scene)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+  tumble::app::RenderOptions render;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Simulate a scene and render it off-screen to an MP4 video and/or PNG frames");
+  render_cmd->add_option("scene", render.scene, "Scene file (YAML)")->required();
+  render_cmd->add_option("-o,--output", render.output,
+                         "Video file, H.264 MP4 (default out/<scene>/<scene>.mp4 unless "
+                         "--frames is given)");
+  render_cmd->add_option("--frames", render.frames_dir,
+                         "Also write every frame as DIR/frame_NNNNNN.png");
+  render_cmd->add_option("--fps", render.fps, "Frames per second of simulated time")
+      ->check(kFinitePositive)
+      ->check(CLI::Range(0.0, 1000.0));
+  render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT (default 1280x720)");
+  render_cmd
+      ->add_option("--overlay", render.overlays,
+                   "Debug overlays, comma-separated: aabb, pairs, contacts, stage, rest")
+      ->delimiter(',');
+  render_cmd->add_option("--duration", render.duration, "Simulated time in s (overrides the scene)")
+      ->check(kFinitePositive);
+  render_cmd
+      ->add_option("--supersample", render.supersample,
+                   "Anti-aliasing: render at N times the size and filter down (1..4)")
+      ->check(CLI::Range(1, 4));
+  render_cmd->add_flag("!--no-shadows", render.shadows, "Do not draw shadows on the floor");
+  render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar, no summary");
 
   try {
     app.parse(argc, argv);
@@ -139,6 +165,8 @@ int main(int argc, char** argv) {
   try {
     if (run_cmd->parsed())
       return tumble::app::run_command(run);
+    if (render_cmd->parsed())
+      return tumble::app::render_command(render);
     if (validate_cmd->parsed())
       return tumble::app::validate_command(validate_scene);
     if (ccd_cmd->parsed())

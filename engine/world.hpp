@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "collision/broad_phase.hpp"
@@ -35,6 +36,12 @@ class World {
   void step();
 
   const StepStatistics& last_step_statistics() const { return last_step_; }
+
+  // What the last step's collision stages found, for debug views: the broad phase's candidate
+  // pairs and the touching pairs with their manifolds (poses at the start of that step). Empty
+  // before the first step.
+  std::span<const ProxyPair> candidate_pairs() const { return candidate_pairs_; }
+  std::span<const PairContact> contacts() const { return contacts_; }
 
   // Totals over all bodies [J]: kinetic, and gravitational potential relative to the origin.
   Real kinetic_energy() const;

@@ -1,0 +1,145 @@
+// Shape meshes against the shapes they draw: enclosed volume against the analytic volume,
+// outward winding, vertices on the surface. The generic support-map path is checked on every
+// shape that has a dedicated mesh, so it is known to work before a new shape relies on it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <stdexcept>
+
+#include "renders/mesh.hpp"
+
+namespace tumble::render {
+namespace {
+
+double property_scale() {
+  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
+  const double scale = text ? std::strtod(text, nullptr) : 1.0;
+  return scale > 0 && scale <= 1 ? scale : 1.0;
+}
+
+// Every triangle faces away from the centre of mass (true for convex shapes centred at the
+// origin) and every normal is unit and on the same side as its triangle's face.
+void expect_outward(const Mesh& mesh, const char* what) {
+  ASSERT_EQ(mesh.positions.size(), mesh.normals.size()) << what;
+  ASSERT_EQ(mesh.indices.size() % 3, 0u) << what;
+  ASSERT_GT(mesh.triangle_count(), 0) << what;
+  for (const Vec3& n : mesh.normals)
+    ASSERT_NEAR(n.norm(), 1.0, 1e-9) << what;
+  for (std::size_t i = 0; i < mesh.indices.size(); i += 3) {
+    const Vec3& a = mesh.positions[mesh.indices[i]];
+    const Vec3& b = mesh.positions[mesh.indices[i + 1]];
+    const Vec3& c = mesh.positions[mesh.indices[i + 2]];
+    const Vec3 face = (b - a).cross(c - a);
+    if (face.norm() < 1e-12)
+      continue;  // pole triangles of a revolved mesh
+    ASSERT_GE(face.dot(a + b + c), -1e-12) << what << ": triangle " << i / 3 << " faces inwards";
+    for (int k = 0; k < 3; ++k)
+      ASSERT_GT(mesh.normals[mesh.indices[i + k]].dot(face), 0) << what << ": triangle " << i / 3;
+  }
+}
+
+// An inscribed polyhedron holds a little less than the shape; 3% is far more than 32 segments
+// or 3 icosphere subdivisions lose, far less than a missing or inverted patch.
+void expect_volume(const Mesh& mesh, const Shape& shape, const char* what) {
+  const Real v = enclosed_volume(mesh);
+  EXPECT_LE(v, volume(shape) * (1 + 1e-9)) << what;
+  EXPECT_GE(v, volume(shape) * 0.97) << what;
+}
+
+TEST(Mesh, SphereIsClosedOutwardAndOnTheSurface) {
+  const Shape s = Shape::sphere(0.7);
+  const Mesh m = tessellate(s, {});
+  expect_outward(m, "sphere");
+  expect_volume(m, s, "sphere");
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    EXPECT_NEAR(m.positions[i].norm(), 0.7, 1e-12);
+    EXPECT_NEAR((m.positions[i] - 0.7 * m.normals[i]).norm(), 0, 1e-12);
+  }
+}
+
+TEST(Mesh, BoxIsExact) {
+  const Shape s = Shape::box(Vec3(0.5, 0.2, 1.5));
+  const Mesh m = tessellate(s, {});
+  expect_outward(m, "box");
+  EXPECT_EQ(m.triangle_count(), 12);
+  EXPECT_NEAR(enclosed_volume(m), volume(s), 1e-12);
+  for (const Vec3& p : m.positions)
+    EXPECT_TRUE(((p.cwiseAbs() - s.half_extents).cwiseAbs().array() < 1e-15).all()) << p;
+}
+
+TEST(Mesh, CapsuleCoreRunsAlongZ) {
+  const Shape s = Shape::capsule(0.3, 0.8);
+  const Mesh m = tessellate(s, {});
+  expect_outward(m, "capsule");
+  expect_volume(m, s, "capsule");
+  Real top = -1;
+  for (const Vec3& p : m.positions) {
+    // Distance to the core segment is the radius.
+    const Vec3 core(0, 0, std::clamp(p.z(), Real(-0.8), Real(0.8)));
+    EXPECT_NEAR((p - core).norm(), 0.3, 1e-12);
+    top = std::max(top, p.z());
+  }
+  EXPECT_NEAR(top, 1.1, 1e-12);
+}
+
+TEST(Mesh, PlaneHasNoMesh) {
+  EXPECT_THROW(tessellate(Shape::plane(), {}), std::invalid_argument);
+  EXPECT_THROW(tessellate_convex_support(Shape::plane(), {}), std::invalid_argument);
+}
+
+TEST(Mesh, IcosphereIsAClosedUnitSphere) {
+  std::vector<Vec3> d;
+  std::vector<std::uint32_t> t;
+  icosphere(2, d, t);
+  EXPECT_EQ(d.size(), 162u);  // 10 * 4^n + 2
+  EXPECT_EQ(t.size(), 3u * 320);
+  Mesh m;
+  m.positions = d;
+  m.normals = d;
+  m.indices = t;
+  expect_outward(m, "icosphere");
+}
+
+// The generic path on random spheres, boxes and capsules: every vertex is a support point (on
+// the surface), the mesh winds outwards and holds the shape's volume. A box's support points
+// are its corners, so its generic mesh must be exact.
+TEST(Mesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<Real> size(0.02, 3.0);
+  const int cases = std::max(20, static_cast<int>(300 * property_scale()));
+  TessellationDetail detail;
+  for (int i = 0; i < cases; ++i) {
+    Shape s;
+    switch (i % 3) {
+      case 0:
+        s = Shape::sphere(size(rng));
+        break;
+      case 1:
+        s = Shape::box(Vec3(size(rng), size(rng), size(rng)));
+        break;
+      default:
+        s = Shape::capsule(size(rng), size(rng));
+        break;
+    }
+    const Mesh m = tessellate_convex_support(s, detail);
+    const std::string what =
+        "case " + std::to_string(i) + " " + std::string(shape_type_name(s.type));
+    expect_outward(m, what.c_str());
+    if (s.type == ShapeType::box) {
+      EXPECT_NEAR(enclosed_volume(m), volume(s), 1e-9 * volume(s)) << what;
+    } else {
+      expect_volume(m, s, what.c_str());
+    }
+    for (std::size_t k = 0; k < m.positions.size(); ++k) {
+      // A vertex normal is either the direction it is the support point of, or the normal of
+      // a flat facet of the shape: either way no point of the shape lies beyond the vertex.
+      const Vec3& n = m.normals[k];
+      EXPECT_NEAR(support(s, n).dot(n), m.positions[k].dot(n), 1e-9 * (1 + size.max())) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tumble::render
