@@ -239,6 +239,8 @@ void World::update_sleep(Real dt) {
       state_.bodies[i].angular_velocity.setZero();
     }
   }
+}
+
 // Fast bodies are swept from their pose at the start of the step (shape_poses_, set by
 // update_bounds) to where the solver put them; the stage is reported as run only in steps where a
 // swept body had a candidate to be tested against.
