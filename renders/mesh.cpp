@@ -175,7 +175,10 @@ Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& det
 
 Mesh tessellate(const Shape& shape, const TessellationDetail& detail) {
   // One case per type with a dedicated mesh; every other bounded type (cylinder, hull, ...) is
-  // drawn from its support map until it gets its own case here.
+  // drawn from its support map until it gets its own case here. The support map of a
+  // non-convex shape (triangle mesh, compound) gives its convex hull: such a type needs its own
+  // case (its triangles, or its children's meshes) or a throw of std::invalid_argument saying
+  // it cannot be rendered yet.
   switch (shape.type) {
     case ShapeType::sphere:
       return tessellate_sphere(shape.radius, detail);
