@@ -162,16 +162,16 @@ Real PenaltySolver::solve(std::span<BodyState> bodies) {
       const BodyState& b = bodies[p.b];
       const Real vn = p.normal.dot(a.velocity - b.velocity) + p.rn_a.dot(a.angular_velocity) -
                       p.rn_b.dot(b.angular_velocity);
-      Real target = 0;
-      if (phi < 0 || p.normal_impulse > 0) {
-        // The spring acts only while the surfaces overlap; phi is the start-of-substep value,
-        // so a gap closing within the substep is met by the next substep's spring.
-        const Real stiffness = phi < 0 ? p.stiffness : Real(0);
-        const Real damping = phi < 0 ? p.damping : Real(0);
-        const Real rate = h * stiffness + damping;
-        const Real g = p.normal_mass > 0 ? h * rate / p.normal_mass : Real(0);
-        target = (h * (-stiffness * phi - rate * vn) + g * p.normal_impulse) / (1 + g);
-      }
+      // The spring sees the separation at the end of the substep, phi + h v_n', also when the
+      // surfaces are still apart at its start: a spring that switched on only at the next
+      // substep would let a body sink into it without doing work against it, and then push
+      // it out with energy k phi^2 / 2 that nothing paid for (measured: +0.06 J in the first
+      // steps of a 12-row wall pyramid, +1.5 J and a launched top box at 40 rows). The
+      // damper acts only while the surfaces overlap.
+      const Real damping = phi < 0 ? p.damping : Real(0);
+      const Real rate = h * p.stiffness + damping;
+      const Real g = p.normal_mass > 0 ? h * rate / p.normal_mass : Real(0);
+      const Real target = (h * (-p.stiffness * phi - rate * vn) + g * p.normal_impulse) / (1 + g);
       const Real new_impulse = std::max(target, Real(0));
       const Real applied = new_impulse - p.normal_impulse;
       p.normal_impulse = new_impulse;
