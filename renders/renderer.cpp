@@ -243,12 +243,16 @@ struct Renderer::Impl {
 
   Impl(const Scene& s, const RenderSettings& r) : scene(s), settings(r) {}
 
-  Colour body_colour(std::size_t i, const BodyState& b) const {
+  Colour body_colour(std::size_t i, const State& state) const {
     const BodyDesc& d = scene.bodies[i];
     if (settings.has(Overlay::stage))
       return stage[i] == 2 ? kStageTouching : stage[i] == 1 ? kStageCandidate : kStageNone;
     if (settings.has(Overlay::rest) && !d.is_static) {
-      const bool resting = b.velocity.norm() < 0.05 && b.angular_velocity.norm() < 0.05;
+      // With sleeping on, the engine's own verdict; without it, which bodies would be candidates.
+      const BodyState& b = state.bodies[i];
+      const bool resting = scene.world.sleeping
+                               ? state.asleep[i] != 0
+                               : b.velocity.norm() < 0.05 && b.angular_velocity.norm() < 0.05;
       return resting ? kResting : kMoving;
     }
     return d.is_static ? kStaticColour : kPalette[i % kPalette.size()];
@@ -319,7 +323,7 @@ struct Renderer::Impl {
       if (meshes[i].indices.empty())
         continue;
       const BodyState& b = state.bodies[i];
-      set_colour(body_colour(i, b));
+      set_colour(body_colour(i, state));
       glPushMatrix();
       glMultMatrixd(pose_matrix(b.position, b.orientation).data());
       draw_mesh(meshes[i]);
