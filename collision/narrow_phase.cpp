@@ -115,11 +115,11 @@ constexpr PairFunction none = collide_unsupported;  // mesh and compound: filled
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
   //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh  compound
-  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      cvx,                      cvx,                    none, none}},
+  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,                     cvx,                    none, none}},
   /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    none, none}},
-  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     cvx,                      cvx,                    none, none}},
+  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    none, none}},
   /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         none, none}},
-  /* cylinder */ {{xvc,               xvc,                xvc,                    as<cylinder_plane>,    same<convex_convex>,      cvx,                    none, none}},
+  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    none, none}},
   /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<convex_convex>,    none, none}},
   /* mesh     */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},
   /* compound */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},

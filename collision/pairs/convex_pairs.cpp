@@ -160,7 +160,7 @@ void feature_towards(const Shape& shape, const Transform& pose, const Vec3& dire
     }
     case ShapeType::capsule: {
       f.radius = shape.radius;
-      if (std::abs(u.z()) <= kSegmentAlignment) {
+      if (shape.half_length > 0 && std::abs(u.z()) <= kSegmentAlignment) {
         f.point[0] = pose.apply(Vec3(0, 0, -shape.half_length));
         f.point[1] = pose.apply(Vec3(0, 0, shape.half_length));
         f.id[0] = feature::kCapsuleEnd0;
@@ -179,8 +179,13 @@ void feature_towards(const Shape& shape, const Transform& pose, const Vec3& dire
 
 // Clips `incident` against the side planes of `reference` (a face) and appends the kept points
 // as contacts. `reference_is_a` says which shape the reference face belongs to.
+// Depths are measured along the manifold normal `normal` (B to A, from GJK/EPA) down to the
+// reference face's plane; points deeper than `max_depth` (the exact depth) by more than
+// `depth_slack` come from a face tilted from the normal and are dropped, so no point reports
+// more than the true penetration and every point lies in both shapes.
 int clip_features(const FeaturePolygon& reference, const FeaturePolygon& incident,
-                  bool reference_is_a, Real margin, std::array<ContactPoint, kMaxClipPoints>& out) {
+                  bool reference_is_a, const Vec3& normal, Real max_depth, Real depth_slack,
+                  Real margin, std::array<ContactPoint, kMaxClipPoints>& out) {
   struct ClipPoint {
     Vec3 p;
     std::uint16_t incident_id;
@@ -201,7 +206,9 @@ int clip_features(const FeaturePolygon& reference, const FeaturePolygon& inciden
   for (int e = 0; e < reference.count && count > 0; ++e) {
     const Vec3& r0 = reference.point[std::size_t(e)];
     const Vec3& r1 = reference.point[std::size_t((e + 1) % reference.count)];
-    Vec3 side = (r1 - r0).cross(reference.normal);
+    // The side plane holds the edge and the manifold normal, so a kept point moved along the
+    // normal onto the face plane lands inside the face.
+    Vec3 side = (r1 - r0).cross(normal);
     if (side.dot(centre - r0) > 0)
       side = -side;  // outward from the face's interior
     const std::uint16_t side_id =
@@ -235,17 +242,25 @@ int clip_features(const FeaturePolygon& reference, const FeaturePolygon& inciden
     count = n;
   }
   const Vec3& plane_point = reference.point[0];
+  // The incident shape's surface faces the reference along -normal when the incident is A,
+  // along +normal when it is B.
+  const Vec3 towards_reference = reference_is_a ? normal : Vec3(-normal);
+  const Real cosine = std::abs(reference.normal.dot(normal));
   int kept = 0;
   for (int k = 0; k < count; ++k) {
     const ClipPoint& c = (*input)[std::size_t(k)];
-    // The incident surface point: its core point moved towards the reference by its radius.
-    const Vec3 surface = c.p - reference.normal * incident.radius;
-    const Real separation = reference.normal.dot(surface - plane_point);
-    const Real depth = -separation;
+    const Vec3 surface = c.p + towards_reference * incident.radius;
+    // Height above the reference plane along its normal, converted to a length along `normal`.
+    const Real separation = reference.normal.dot(surface - plane_point) / cosine;
+    // Deeper than the exact depth (beyond rounding): the face is tilted from the normal and the
+    // point is not a true contact; drop it.
+    if (-separation > max_depth + depth_slack)
+      continue;
+    const Real depth = std::min(-separation, max_depth);
     if (!(depth >= -margin))
       continue;
-    const Vec3 on_reference = surface - reference.normal * separation;
-    const Vec3 position = Real(0.5) * (on_reference + surface);
+    // point_on_a - point_on_b = -depth * normal; the incident point is exact.
+    const Vec3 position = surface - towards_reference * (depth * Real(0.5));
     const FeatureId feature = reference_is_a ? FeatureId{c.reference_id, c.incident_id}
                                              : FeatureId{c.incident_id, c.reference_id};
     out[std::size_t(kept++)] = {position, depth, feature};
@@ -304,11 +319,24 @@ int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const
     const FeaturePolygon& incident = reference_is_a ? fb : fa;
     if (incident.count >= 2) {
       std::array<ContactPoint, kMaxClipPoints> candidates;
-      const int count = clip_features(reference, incident, reference_is_a, margin, candidates);
-      if (count > 0) {
-        // Normal from B to A: A's outward face normal points at B.
-        const Vec3 face_normal = reference_is_a ? Vec3(-reference.normal) : reference.normal;
-        return write_reduced(face_normal, std::span(candidates.data(), std::size_t(count)), out);
+      // The exact GJK/EPA point goes first, so it is the deepest point (ties go to the lower
+      // index in the reduction), and the clipped points join it.
+      int index_a = 0;
+      int index_b = 0;
+      sa.core_support(-normal, index_a);
+      sb.core_support(normal, index_b);
+      candidates[0] = {point_a + normal * (depth * Real(0.5)),
+                       depth,
+                       {std::uint16_t(index_a & 0x3fff), std::uint16_t(index_b & 0x3fff)}};
+      std::array<ContactPoint, kMaxClipPoints> clipped;
+      const Real slack = Real(1e-9) * (bounding_radius(a) + bounding_radius(b));
+      const int clipped_count =
+          clip_features(reference, incident, reference_is_a, normal, depth, slack, margin, clipped);
+      int count = 1;
+      for (int k = 0; k < clipped_count && count < kMaxClipPoints; ++k)
+        candidates[std::size_t(count++)] = clipped[std::size_t(k)];
+      if (count > 1 && depth >= -margin) {
+        return write_reduced(normal, std::span(candidates.data(), std::size_t(count)), out);
       }
     }
   }
@@ -321,6 +349,58 @@ int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const
   add_contact(out, point_a, normal, depth, margin,
               {std::uint16_t(index_a & 0x3fff), std::uint16_t(index_b & 0x3fff)});
   return out.count;
+}
+
+int sphere_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                    const Transform& pose_b, Real margin, Manifold& out) {
+  // In the cylinder's frame: the closest point of the solid cylinder to the centre by clamping
+  // (outside), or the nearest of the side and the two caps (inside).
+  const Vec3 c = pose_b.apply_inverse(pose_a.translation);
+  const Real r = b.radius;
+  const Real h = b.half_length;
+  const Real radial = std::hypot(c.x(), c.y());
+  const Vec3 radial_direction =
+      radial > 0 ? Vec3(c.x() / radial, c.y() / radial, 0) : Vec3::UnitX();
+  Vec3 local_normal;
+  Real depth;
+  std::uint16_t feature_b;
+  if (radial > r || std::abs(c.z()) > h) {
+    const Vec3 closest(radial > r ? radial_direction.x() * r : c.x(),
+                       radial > r ? radial_direction.y() * r : c.y(), std::clamp(c.z(), -h, h));
+    const Vec3 gap = c - closest;
+    const Real distance = gap.norm();
+    local_normal =
+        normalized_or(gap, radial > r ? radial_direction : Vec3(0, 0, c.z() < 0 ? -1 : 1));
+    depth = a.radius - distance;
+    feature_b = std::abs(c.z()) > h
+                    ? (radial > r ? kCylinderSide : std::uint16_t(c.z() > 0 ? 1 : 0))
+                    : kCylinderSide;
+  } else {
+    const Real to_side = r - radial;
+    const Real to_cap = h - std::abs(c.z());
+    if (to_side < to_cap) {
+      local_normal = radial_direction;
+      depth = a.radius + to_side;
+      feature_b = kCylinderSide;
+    } else {
+      local_normal = Vec3(0, 0, c.z() < 0 ? -1 : 1);
+      depth = a.radius + to_cap;
+      feature_b = std::uint16_t(c.z() < 0 ? 0 : 1);
+    }
+  }
+  const Vec3 normal = pose_b.rotate(local_normal);
+  out.normal = normal;
+  add_contact(out, pose_a.translation - normal * a.radius, normal, depth, margin,
+              {feature::kSphere, feature_b});
+  return out.count;
+}
+
+int capsule_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                     const Transform& pose_b, Real margin, Manifold& out) {
+  // A capsule of zero length is a sphere, and gets the exact sphere pair.
+  if (a.half_length == 0)
+    return sphere_cylinder(Shape::sphere(a.radius), pose_a, b, pose_b, margin, out);
+  return convex_convex(a, pose_a, b, pose_b, margin, out);
 }
 
 int cylinder_plane(const Shape& a, const Transform& pose_a, const Shape& /*plane*/,

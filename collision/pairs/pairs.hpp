@@ -52,6 +52,10 @@ int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const
                   Real margin, Manifold& out);
 int cylinder_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                    Real margin, Manifold& out);
+int sphere_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                    const Transform& pose_b, Real margin, Manifold& out);
+int capsule_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                     const Transform& pose_b, Real margin, Manifold& out);
 int hull_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                Real margin, Manifold& out);
 // Placeholder for the table cells of triangle meshes and compound bodies, which the mesh work
