@@ -18,8 +18,8 @@
 namespace tumble::testing {
 namespace {
 
-constexpr std::array<ShapeType, 6> kTypes = {ShapeType::sphere,  ShapeType::box,
-                                             ShapeType::capsule, ShapeType::plane,
+constexpr std::array<ShapeType, 6> kTypes = {ShapeType::sphere,   ShapeType::box,
+                                             ShapeType::capsule,  ShapeType::plane,
                                              ShapeType::cylinder, ShapeType::hull};
 
 std::string pair_name(ShapeType a, ShapeType b) {
