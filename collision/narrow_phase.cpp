@@ -18,6 +18,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "collision/convex_hull.hpp"
 #include "collision/pairs/pairs.hpp"
 
 namespace tumble {
@@ -53,9 +54,13 @@ int flipped(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 // diagonal offset is perpendicular to, so the order of two bodies stacked, side by side or in a
 // row does not flip from noise. Exact ties fall to the pose coefficients.
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
+  // Hulls are told apart by content (volume, vertex count), never by address, so the order is
+  // the same in every run.
   const auto dimensions = [](const Shape& s) {
+    const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
+    const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
     return std::make_tuple(s.radius, s.half_length, s.half_extents.x(), s.half_extents.y(),
-                           s.half_extents.z());
+                           s.half_extents.z(), hull_volume, hull_vertices);
   };
   if (dimensions(a) != dimensions(b))
     return dimensions(a) < dimensions(b);
@@ -86,21 +91,38 @@ int no_contact(const Shape&, const Transform&, const Shape&, const Transform&, R
 
 static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
                   int(ShapeType::capsule) == 2 && int(ShapeType::plane) == 3 &&
-                  kShapeTypeCount == 4,
+                  int(ShapeType::cylinder) == 4 && int(ShapeType::hull) == 5 &&
+                  int(ShapeType::mesh) == 6 && int(ShapeType::compound) == 7 &&
+                  kShapeTypeCount == 8,
               "the table below is indexed by ShapeType");
 
 using namespace detail;
 
-// collide_table[type of A][type of B]: `in_pair_frame<f>` runs f as written, `flipped<f>` runs
-// f with the arguments swapped and mirrors its answer, `ordered<f>` does one or the other for
-// two shapes of one type.
+// Short names so the table reads as a grid.
+template <PairFunction f>
+constexpr PairFunction as = in_pair_frame<f>;
+template <PairFunction f>
+constexpr PairFunction fl = flipped<f>;
+template <PairFunction f>
+constexpr PairFunction same = ordered<f>;
+constexpr PairFunction cvx = in_pair_frame<convex_convex>;
+constexpr PairFunction xvc = flipped<convex_convex>;
+constexpr PairFunction none = collide_unsupported;  // mesh and compound: filled by the mesh work
+
+// collide_table[type of A][type of B]: `as<f>` runs f as written, `fl<f>` runs f with the
+// arguments swapped and mirrors its answer, `same<f>` does one or the other for two shapes of one
+// type. cvx / xvc: the generic GJK/EPA pair (convex_pairs.cpp), as written / flipped.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
-  //              sphere                    box                         capsule                       plane
-  /* sphere  */ {{ordered<sphere_sphere>,  in_pair_frame<sphere_box>,  in_pair_frame<sphere_capsule>, in_pair_frame<sphere_plane>}},
-  /* box     */ {{flipped<sphere_box>,     ordered<box_box>,           flipped<capsule_box>,          in_pair_frame<box_plane>}},
-  /* capsule */ {{flipped<sphere_capsule>, in_pair_frame<capsule_box>, ordered<capsule_capsule>,      in_pair_frame<capsule_plane>}},
-  /* plane   */ {{flipped<sphere_plane>,   flipped<box_plane>,         flipped<capsule_plane>,        no_contact}},
+  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh  compound
+  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,                     cvx,                    none, none}},
+  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    none, none}},
+  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    none, none}},
+  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         none, none}},
+  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    none, none}},
+  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<convex_convex>,    none, none}},
+  /* mesh     */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},
+  /* compound */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},
 }};
 // clang-format on
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "collision/convex_hull.hpp"
+
 namespace tumble {
 
 std::string_view shape_type_name(ShapeType type) {
@@ -15,6 +17,14 @@ std::string_view shape_type_name(ShapeType type) {
       return "capsule";
     case ShapeType::plane:
       return "plane";
+    case ShapeType::cylinder:
+      return "cylinder";
+    case ShapeType::hull:
+      return "hull";
+    case ShapeType::mesh:
+      return "mesh";
+    case ShapeType::compound:
+      return "compound";
   }
   return "unknown";
 }
@@ -47,6 +57,21 @@ Shape Shape::plane() {
   return s;
 }
 
+Shape Shape::cylinder(Real radius, Real half_length) {
+  Shape s;
+  s.type = ShapeType::cylinder;
+  s.radius = radius;
+  s.half_length = half_length;
+  return s;
+}
+
+Shape Shape::convex_hull(std::shared_ptr<const ConvexHull> hull) {
+  Shape s;
+  s.type = ShapeType::hull;
+  s.hull = std::move(hull);
+  return s;
+}
+
 namespace {
 
 // Unit vector along `d`, or +z for a zero direction, so support maps never divide by zero.
@@ -71,7 +96,20 @@ Vec3 support(const Shape& shape, const Vec3& d) {
               sign_or_plus(d.z()) * shape.half_extents.z()};
     case ShapeType::capsule:
       return Vec3(0, 0, sign_or_plus(d.z()) * shape.half_length) + unit_or_z(d) * shape.radius;
+    case ShapeType::cylinder: {
+      // The rim point in the direction's projection on the cap plane; a direction along the
+      // axis has a whole cap as support, and the cap's centre is returned.
+      const Real radial = std::sqrt(d.x() * d.x() + d.y() * d.y());
+      const Real z = sign_or_plus(d.z()) * shape.half_length;
+      if (radial > 0)
+        return {d.x() / radial * shape.radius, d.y() / radial * shape.radius, z};
+      return {0, 0, z};
+    }
+    case ShapeType::hull:
+      return shape.hull->vertex(shape.hull->support_index(d));
     case ShapeType::plane:
+    case ShapeType::mesh:
+    case ShapeType::compound:
       break;
   }
   return Vec3::Zero();
@@ -96,6 +134,31 @@ Aabb world_aabb(const Shape& shape, const Transform& pose) {
       const Vec3 e = axis.cwiseAbs() + Vec3::Constant(shape.radius);
       return {c - e, c + e};
     }
+    case ShapeType::cylinder: {
+      // Exact box of a disc pair: a cap disc of radius r with unit normal u extends
+      // r sqrt(1 - u_k^2) along world axis k.
+      const Vec3 u = pose.rotation * Vec3::UnitZ();
+      Vec3 e;
+      for (int k = 0; k < 3; ++k)
+        e[k] = std::abs(u[k]) * shape.half_length +
+               shape.radius * std::sqrt(std::max(Real(0), Real(1) - u[k] * u[k]));
+      return {c - e, c + e};
+    }
+    case ShapeType::hull: {
+      const Mat3 r = pose.rotation.toRotationMatrix();
+      Aabb box;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 axis_local = r.row(k).transpose();
+        box.max[k] =
+            c[k] + shape.hull->vertex(shape.hull->support_index(axis_local)).dot(axis_local);
+        box.min[k] =
+            c[k] + shape.hull->vertex(shape.hull->support_index(-axis_local)).dot(axis_local);
+      }
+      return box;
+    }
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      return {};  // placeholder: the mesh work computes these
     case ShapeType::plane: {
       const Real inf = std::numeric_limits<Real>::infinity();
       Aabb box{Vec3::Constant(-inf), Vec3::Constant(inf)};
@@ -124,8 +187,15 @@ Real volume(const Shape& shape) {
       return 8 * shape.half_extents.prod();
     case ShapeType::capsule:
       return pi * r * r * (2 * shape.half_length) + Real(4) / 3 * pi * r * r * r;
+    case ShapeType::cylinder:
+      return pi * r * r * (2 * shape.half_length);
+    case ShapeType::hull:
+      return shape.hull->volume();
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      return 0;  // placeholder: the mesh work computes these
   }
   return 0;
 }
@@ -153,7 +223,16 @@ Mat3 unit_inertia(const Shape& shape) {
                               m_sph * (Real(2) / 5 * r * r + a * a + Real(3) / 4 * a * r);
       return Vec3(transverse, transverse, axial).asDiagonal();
     }
+    case ShapeType::cylinder: {
+      const Real h = 2 * shape.half_length;
+      const Real transverse = (3 * r * r + h * h) / 12;
+      return Vec3(transverse, transverse, r * r / 2).asDiagonal();
+    }
+    case ShapeType::hull:
+      return shape.hull->unit_inertia();
     case ShapeType::plane:
+    case ShapeType::mesh:
+    case ShapeType::compound:
       return Mat3::Zero();
   }
   return Mat3::Zero();
@@ -167,8 +246,15 @@ Real bounding_radius(const Shape& shape) {
       return shape.half_extents.norm();
     case ShapeType::capsule:
       return shape.half_length + shape.radius;
+    case ShapeType::cylinder:
+      return std::sqrt(shape.half_length * shape.half_length + shape.radius * shape.radius);
+    case ShapeType::hull:
+      return shape.hull->bounding_radius();
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      return 0;  // placeholder: the mesh work computes these
   }
   return 0;
 }

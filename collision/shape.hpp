@@ -1,8 +1,11 @@
-// Convex primitive shapes, in their local frame with the centre of mass at the origin.
-// Sphere, box, capsule (core segment along local z) and plane (the half-space z <= 0).
+// Shapes, in their local frame with the centre of mass at the origin. Sphere, box, capsule (core
+// segment along local z), plane (the half-space z <= 0), cylinder (axis along local z), convex
+// hull (collision/convex_hull.hpp), and the static triangle mesh and compound body (added by the
+// mesh work; until then their narrow-phase entries are placeholders).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include "collision/aabb.hpp"
@@ -10,8 +13,20 @@
 
 namespace tumble {
 
-enum class ShapeType : std::uint8_t { sphere, box, capsule, plane };
-inline constexpr int kShapeTypeCount = 4;
+class ConvexHull;
+
+// The values are fixed: dispatch tables and saved data index by them.
+enum class ShapeType : std::uint8_t {
+  sphere = 0,
+  box = 1,
+  capsule = 2,
+  plane = 3,
+  cylinder = 4,
+  hull = 5,
+  mesh = 6,
+  compound = 7,
+};
+inline constexpr int kShapeTypeCount = 8;
 
 std::string_view shape_type_name(ShapeType type);
 
@@ -19,14 +34,18 @@ std::string_view shape_type_name(ShapeType type);
 // dispatch is an index into a table. Fields a type does not use stay zero.
 struct Shape {
   ShapeType type = ShapeType::sphere;
-  Real radius = 0;                   // sphere, capsule [m]
-  Real half_length = 0;              // capsule: half the length of the core segment [m]
+  Real radius = 0;                   // sphere, capsule, cylinder [m]
+  Real half_length = 0;              // capsule: half the core segment; cylinder: half height [m]
   Vec3 half_extents = Vec3::Zero();  // box [m]
+  // hull: the shared, immutable hull (vertices re-centred on its centre of mass).
+  std::shared_ptr<const ConvexHull> hull;
 
   static Shape sphere(Real radius);
   static Shape box(const Vec3& half_extents);
   static Shape capsule(Real radius, Real half_length);
   static Shape plane();
+  static Shape cylinder(Real radius, Real half_length);
+  static Shape convex_hull(std::shared_ptr<const ConvexHull> hull);
 
   // Bounded shapes can be dynamic; a plane is infinite and only ever static.
   bool is_bounded() const { return type != ShapeType::plane; }

@@ -6,6 +6,8 @@
 // keep the two in step.
 #include "scenes/scene_loader.hpp"
 
+#include "collision/convex_hull.hpp"
+
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
@@ -16,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -159,10 +162,11 @@ constexpr std::array<std::string_view, 2> kSphereKeys{"type", "radius"};
 constexpr std::array<std::string_view, 2> kBoxKeys{"type", "half_extents"};
 constexpr std::array<std::string_view, 3> kCapsuleKeys{"type", "radius", "half_length"};
 constexpr std::array<std::string_view, 1> kPlaneKeys{"type"};
+constexpr std::array<std::string_view, 3> kCylinderKeys{"type", "radius", "half_length"};
+constexpr std::array<std::string_view, 3> kHullKeys{"type", "points", "file"};
 
 // Names design.md reserves for later; they get "not implemented yet" rather than "unknown".
-constexpr std::array<std::string_view, 5> kPlannedShapes{"cylinder", "hull", "mesh", "sdf",
-                                                         "compound"};
+constexpr std::array<std::string_view, 3> kPlannedShapes{"mesh", "sdf", "compound"};
 
 // ---------------------------------------------------------------------------------------------
 // The document tree. yaml-cpp's parser reports events and the tree is built here instead of with
@@ -520,6 +524,7 @@ class Loader {
   BodyDesc load_body(const Node& node, const YAML::Mark& mark, std::size_t i,
                      const MaterialIndex& materials, std::optional<YAML::Mark>& name_mark) const;
   Shape load_shape(const Entry& e, const std::string& path) const;
+  Shape load_hull(const Fields& f, const std::string& path) const;
   Camera load_camera(const Entry& e) const;
 
   std::string source_;
@@ -863,7 +868,8 @@ Shape Loader::load_shape(const Entry& e, const std::string& path) const {
   const Entry* type = f.find("type");
   if (type == nullptr) {
     fail(f.mark, child(path, "type"),
-         "missing required field 'type'; expected one of: sphere, box, capsule, plane");
+         "missing required field 'type'; expected one of: sphere, box, capsule, plane, cylinder, "
+         "hull");
   }
   const std::string t = read_word(*type, child(path, "type"), "a shape type");
   const auto require = [&](std::string_view key, std::string_view what) -> const Entry& {
@@ -895,12 +901,81 @@ Shape Loader::load_shape(const Entry& e, const std::string& path) const {
     check_known(f, kPlaneKeys);
     return Shape::plane();
   }
+  if (t == "cylinder") {
+    check_known(f, kCylinderKeys);
+    const Entry& r = require("radius", "the cylinder's radius in metres");
+    const Entry& h =
+        require("half_length", "half the cylinder's height along its local z in metres");
+    const Real radius = read_real(r, child(path, "radius"), kSize);
+    return Shape::cylinder(radius, read_real(h, child(path, "half_length"), kSize));
+  }
+  if (t == "hull") {
+    check_known(f, kHullKeys);
+    return load_hull(f, path);
+  }
   if (contains(kPlannedShapes, t)) {
     fail(type->mark(), child(path, "type"),
-         "shape type '" + t + "' is not implemented yet; available: sphere, box, capsule, plane");
+         "shape type '" + t +
+             "' is not implemented yet; available: sphere, box, capsule, plane, cylinder, hull");
   }
-  fail(type->mark(), child(path, "type"),
-       "expected one of: sphere, box, capsule, plane, got " + describe(type->value));
+  fail(
+      type->mark(), child(path, "type"),
+      "expected one of: sphere, box, capsule, plane, cylinder, hull, got " + describe(type->value));
+}
+
+// A convex hull from `points: [[x, y, z], ...]` or `file: X.obj` (only the OBJ's "v x y z" vertex
+// lines are read, by the minimal parser below; faces are ignored since the hull is rebuilt by
+// Qhull). The path is relative to the scene file's directory. Degenerate points (fewer than 4,
+// flat, needle, coincident) are refused with Qhull-free messages from ConvexHull.
+Shape Loader::load_hull(const Fields& f, const std::string& path) const {
+  const Entry* points_entry = f.find("points");
+  const Entry* file_entry = f.find("file");
+  if ((points_entry == nullptr) == (file_entry == nullptr)) {
+    fail(f.mark, child(path, "points"),
+         "a hull needs exactly one of 'points' (a list of [x, y, z]) or 'file' (an OBJ file)");
+  }
+  std::vector<Vec3> points;
+  const Entry& where = points_entry != nullptr ? *points_entry : *file_entry;
+  const std::string field = child(path, points_entry != nullptr ? "points" : "file");
+  if (points_entry != nullptr) {
+    const Node& n = points_entry->value;
+    if (!n.is_sequence()) {
+      fail(where.mark(), field, "expected a list of points [x, y, z], got " + describe(n));
+    }
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      const Node& item = *n.items[i];
+      const Entry point{index(field, i), mark_or(item, where.mark()), item};
+      points.push_back(read_vector<3>(point, index(field, i), "[x, y, z]", "metres", kCoordinate));
+    }
+  } else {
+    const std::string name = read_word(*file_entry, field, "an OBJ file name");
+    const std::filesystem::path file = std::filesystem::path(source_).parent_path() / name;
+    std::ifstream in(file);
+    if (!in) {
+      fail(where.mark(), field, "cannot open OBJ file '" + file.string() + "'");
+    }
+    std::string line;
+    int line_number = 0;
+    while (std::getline(in, line)) {
+      ++line_number;
+      if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) {
+        continue;  // only vertex lines matter for a hull
+      }
+      std::istringstream fields(line.substr(2));
+      Vec3 p;
+      if (!(fields >> p.x() >> p.y() >> p.z()) || !p.allFinite()) {
+        fail(where.mark(), field,
+             "OBJ file '" + file.string() + "' line " + std::to_string(line_number) +
+                 ": expected 'v x y z' with three finite numbers, got '" + line + "'");
+      }
+      points.push_back(p);
+    }
+  }
+  try {
+    return Shape::convex_hull(std::make_shared<const ConvexHull>(ConvexHull::from_points(points)));
+  } catch (const DegenerateHullError& e) {
+    fail(where.mark(), field, e.what());
+  }
 }
 
 // `name_mark` is set when the body names itself; uniqueness is the caller's business.
@@ -956,6 +1031,11 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
     }
     b.orientation = Quat(q[0], q[1], q[2], q[3]);
     b.orientation.normalize();
+  }
+  if (b.shape.type == ShapeType::hull) {
+    // The hull was re-centred on its centre of mass: move the body so its points stay where the
+    // scene put them.
+    b.position += b.orientation * b.shape.hull->centre_of_mass_offset();
   }
   const auto check_still = [&](const Entry& x, const Vec3& v, std::string_view what) {
     if (b.is_static && !v.isZero(0)) {

@@ -46,6 +46,23 @@ int box_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Tra
 int box_box(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out);
 
+// convex_pairs.cpp: cylinder and hull against every convex shape through GJK/EPA and feature
+// clipping, and their analytic plane pairs.
+int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+                  Real margin, Manifold& out);
+int cylinder_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+                   Real margin, Manifold& out);
+int sphere_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                    const Transform& pose_b, Real margin, Manifold& out);
+int capsule_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
+                     const Transform& pose_b, Real margin, Manifold& out);
+int hull_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+               Real margin, Manifold& out);
+// Placeholder for the table cells of triangle meshes and compound bodies, which the mesh work
+// fills in: no contact.
+int collide_unsupported(const Shape& a, const Transform& pose_a, const Shape& b,
+                        const Transform& pose_b, Real margin, Manifold& out);
+
 // ---------------------------------------------------------------------------------------------
 // Feature ids. Each shape numbers its own features so that a contact point keeps its id while
 // the bodies move a little, and the solver can match it with last step's point.

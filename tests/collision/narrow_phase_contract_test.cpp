@@ -18,8 +18,9 @@
 namespace tumble::testing {
 namespace {
 
-constexpr std::array<ShapeType, 4> kTypes = {ShapeType::sphere, ShapeType::box, ShapeType::capsule,
-                                             ShapeType::plane};
+constexpr std::array<ShapeType, 6> kTypes = {ShapeType::sphere,   ShapeType::box,
+                                             ShapeType::capsule,  ShapeType::plane,
+                                             ShapeType::cylinder, ShapeType::hull};
 
 std::string pair_name(ShapeType a, ShapeType b) {
   return std::string(shape_type_name(a)) + "-" + std::string(shape_type_name(b));

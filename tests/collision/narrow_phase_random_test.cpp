@@ -50,6 +50,11 @@ Real size_of(const Shape& s) {
 // Anything else: the brute force.
 Real true_signed_distance(const Shape& a, const Transform& pose_a, const Shape& b,
                           const Transform& pose_b) {
+  // Sphere and cylinder: the exact distance function of the cylinder at the sphere's centre.
+  if (a.type == ShapeType::sphere && b.type == ShapeType::cylinder)
+    return signed_distance_to_shape(b, pose_b, pose_a.translation) - a.radius;
+  if (a.type == ShapeType::cylinder && b.type == ShapeType::sphere)
+    return signed_distance_to_shape(a, pose_a, pose_b.translation) - b.radius;
   const Real brute_force = brute_force_signed_distance(a, pose_a, b, pose_b);
   const auto is_round = [](const Shape& s) {
     return s.type == ShapeType::sphere || s.type == ShapeType::capsule;
@@ -270,6 +275,36 @@ TEST(NarrowPhaseRandom, CapsulePlaneMatchesSupportMap) {
 
 TEST(NarrowPhaseRandom, BoxPlaneMatchesSupportMap) {
   run_plane_pair(ShapeType::box, 3000, 109);
+}
+
+// The new shapes (issue 3): hulls against every shape the brute force covers, the exact sphere-
+// cylinder pair, and the plane pairs of cylinder and hull.
+TEST(NarrowPhaseRandom, SphereHullMatchesBruteForce) {
+  run_bounded_pair(ShapeType::sphere, ShapeType::hull, 1500, 110, {}, 3, 0);
+}
+
+TEST(NarrowPhaseRandom, CapsuleHullMatchesBruteForce) {
+  run_bounded_pair(ShapeType::capsule, ShapeType::hull, 1500, 111, {}, 3, 0.4);
+}
+
+TEST(NarrowPhaseRandom, BoxHullMatchesBruteForce) {
+  run_bounded_pair(ShapeType::box, ShapeType::hull, 1500, 112, {}, 3, 0.4);
+}
+
+TEST(NarrowPhaseRandom, HullHullMatchesBruteForce) {
+  run_bounded_pair(ShapeType::hull, ShapeType::hull, 1500, 113, {}, 3, 0.4);
+}
+
+TEST(NarrowPhaseRandom, SphereCylinderMatchesDistanceFunction) {
+  run_bounded_pair(ShapeType::sphere, ShapeType::cylinder, 4000, 114, {}, 1, 0);
+}
+
+TEST(NarrowPhaseRandom, CylinderPlaneMatchesSupportMap) {
+  run_plane_pair(ShapeType::cylinder, 3000, 115);
+}
+
+TEST(NarrowPhaseRandom, HullPlaneMatchesSupportMap) {
+  run_plane_pair(ShapeType::hull, 3000, 116);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // External narrow-phase cases (shared/narrowphase-cases/cases.json: transcribed from the test
 // suites of libccd, FCL, Coal, Jolt and Bullet, with their expected depth, distance, normal and
-// witness points). Every case whose shapes are all sphere, box, capsule or halfspace is run;
-// the others (cylinder, cone, triangle, hull) and queries that are not a contact query (time of
-// impact) are skipped and counted.
+// witness points). Every case whose shapes are all sphere, box, capsule, halfspace, cylinder or
+// convex hull is run; the others (cone; triangle, which belongs to the mesh work) and queries
+// that are not a contact query (time of impact) are skipped and counted.
 //
 // The file's conventions differ from ours: its normal points from A to B (ours from B to A), its
 // boxes are given by half extents (as ours), its halfspace is {x : n.x <= offset} (ours is the
@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/convex_hull.hpp"
 #include "collision/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 
@@ -59,7 +60,20 @@ std::optional<PlacedShape> to_shape(const json& j) {
     const Real offset = j.at("offset");
     return PlacedShape{Shape::plane(), {n * offset, Quat::FromTwoVectors(Vec3::UnitZ(), n)}};
   }
-  return std::nullopt;  // cylinder, cone, triangle, convex_hull: not ours yet
+  if (type == "cylinder") {
+    return PlacedShape{Shape::cylinder(j.at("radius"), j.at("half_height")), {}};
+  }
+  if (type == "convex_hull") {
+    // World vertices: the hull is re-centred on its centre of mass, which the local frame puts
+    // back.
+    std::vector<Vec3> points;
+    for (const json& v : j.at("vertices"))
+      points.push_back(to_vec(v));
+    auto hull = std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
+    const Vec3 offset = hull->centre_of_mass_offset();
+    return PlacedShape{Shape::convex_hull(std::move(hull)), {offset, Quat::Identity()}};
+  }
+  return std::nullopt;  // cone and triangle: not ours (triangles belong to the mesh work)
 }
 
 Quat to_quat(const json& j) {

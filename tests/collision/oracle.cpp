@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "collision/convex_hull.hpp"
+
 namespace tumble::testing {
 
 constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
@@ -48,8 +50,71 @@ Shape random_shape(Rng& rng, ShapeType type) {
       return Shape::capsule(uniform(rng, 0.1, 0.8), uniform(rng, 0.05, 1.2));
     case ShapeType::plane:
       return Shape::plane();
+    case ShapeType::cylinder:
+      return Shape::cylinder(uniform(rng, 0.15, 1.0), uniform(rng, 0.1, 1.0));
+    case ShapeType::hull: {
+      // 4 to 43 points, half of the time on a sphere (many faces), otherwise in a box (a few
+      // big faces with merged coplanar facets are rarer but happen with 8 corners below).
+      const int count = 4 + int(uniform(rng, 0, 40));
+      const Vec3 size(uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0));
+      std::vector<Vec3> points;
+      const int style = int(uniform(rng, 0, 3));
+      for (int i = 0; i < count; ++i) {
+        if (style == 0)
+          points.push_back(random_unit_vector(rng).cwiseProduct(size));
+        else
+          points.push_back(random_vector_in_box(rng, 1).cwiseProduct(size));
+      }
+      if (style == 2) {
+        // A box's corners plus the interior points: merged square faces.
+        for (int v = 0; v < 8; ++v)
+          points.push_back(Vec3(v & 1 ? 1 : -1, v & 2 ? 1 : -1, v & 4 ? 1 : -1).cwiseProduct(size));
+      }
+      return Shape::convex_hull(
+          std::make_shared<const ConvexHull>(ConvexHull::from_points(points)));
+    }
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      break;
   }
   return {};
+}
+
+namespace {
+
+// Distance from p to triangle (a, b, c): the projection when it falls inside (tested with
+// edge-side signs), else the nearest edge.
+Real point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const Real n2 = n.squaredNorm();
+  if (n2 > 0) {
+    const Vec3 q = p - n * (n.dot(p - a) / n2);
+    const bool inside = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
+                        (a - c).cross(q - c).dot(n) >= 0;
+    if (inside)
+      return (p - q).norm();
+  }
+  return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, c),
+                   point_segment_distance(p, c, a)});
+}
+
+}  // namespace
+
+Real hull_local_signed_distance(const ConvexHull& hull, const Vec3& p) {
+  Real largest = -kInfinity;
+  for (const HullFace& f : hull.faces())
+    largest = std::max(largest, f.normal.dot(p) - f.offset);
+  if (largest <= 0)
+    return largest;
+  Real best = kInfinity;
+  for (const HullFace& f : hull.faces()) {
+    const auto at = [&](int k) {
+      return hull.vertex(hull.face_vertices()[std::size_t(f.first_index + k)]);
+    };
+    for (int k = 1; k + 1 < f.count; ++k)
+      best = std::min(best, point_triangle_distance(p, at(0), at(k), at(k + 1)));
+  }
+  return best;
 }
 
 Real local_signed_distance(const Shape& shape, const Vec3& p) {
@@ -73,6 +138,18 @@ Real local_signed_distance(const Shape& shape, const Vec3& p) {
     }
     case ShapeType::plane:
       return p.z();
+    case ShapeType::cylinder: {
+      // Exact SDF of a finite cylinder (Quilez): d = (|p_xy| - r, |z| - h).
+      const Real dr = std::hypot(p.x(), p.y()) - shape.radius;
+      const Real dz = std::abs(p.z()) - shape.half_length;
+      const Real outside = std::hypot(std::max(dr, Real(0)), std::max(dz, Real(0)));
+      return outside + std::min(std::max(dr, dz), Real(0));
+    }
+    case ShapeType::hull:
+      return hull_local_signed_distance(*shape.hull, p);
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      break;
   }
   return 0;
 }
@@ -110,6 +187,38 @@ Vec3 random_surface_point(Rng& rng, const Shape& shape) {
     }
     case ShapeType::plane:
       return {uniform(rng, -10, 10), uniform(rng, -10, 10), 0};
+    case ShapeType::cylinder: {
+      const Real r = shape.radius;
+      const Real h = shape.half_length;
+      const Real side_area = 2 * std::numbers::pi * r * 2 * h;
+      const Real caps_area = 2 * std::numbers::pi * r * r;
+      const Real angle = uniform(rng, 0, 2 * std::numbers::pi);
+      if (uniform(rng, 0, side_area + caps_area) < side_area)
+        return {r * std::cos(angle), r * std::sin(angle), uniform(rng, -h, h)};
+      const Real rho = r * std::sqrt(uniform(rng, 0, 1));
+      return {rho * std::cos(angle), rho * std::sin(angle), uniform(rng, 0, 1) < 0.5 ? -h : h};
+    }
+    case ShapeType::hull: {
+      // A random face, a random point of a random fan triangle (not area-uniform; enough for
+      // surface tests).
+      const ConvexHull& hull = *shape.hull;
+      const HullFace& f =
+          hull.faces()[std::size_t(uniform(rng, 0, Real(hull.faces().size()) - 1e-9))];
+      const auto at = [&](int k) {
+        return hull.vertex(hull.face_vertices()[std::size_t(f.first_index + k)]);
+      };
+      const int k = 1 + int(uniform(rng, 0, Real(f.count - 2) - 1e-9));
+      Real u = uniform(rng, 0, 1);
+      Real v = uniform(rng, 0, 1);
+      if (u + v > 1) {
+        u = 1 - u;
+        v = 1 - v;
+      }
+      return at(0) + u * (at(k) - at(0)) + v * (at(k + 1) - at(0));
+    }
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      break;
   }
   return Vec3::Zero();
 }
@@ -260,7 +369,15 @@ void core_of(const Shape& shape, const Transform& pose, std::vector<Vec3>& core,
       }
       radius = 0;
       return;
+    case ShapeType::hull:
+      for (const Vec3& v : shape.hull->vertices())
+        core.push_back(pose.apply(v));
+      radius = 0;
+      return;
     case ShapeType::plane:
+    case ShapeType::cylinder:  // no finite core: tests use its exact SDF or Bullet instead
+    case ShapeType::mesh:
+    case ShapeType::compound:
       break;
   }
 }
@@ -286,7 +403,13 @@ Real brute_force_signed_distance(const Shape& a, const Transform& pose_a, const 
     for (const Vec3& q : core_b)
       difference.push_back(p - q);
   }
-  return hull_signed_distance_of_origin(difference) - radius_a - radius_b;
+  if (difference.size() <= 48)
+    return hull_signed_distance_of_origin(difference) - radius_a - radius_b;
+  // Too many points for the O(n^4) enumeration: Qhull builds the Minkowski difference's hull
+  // and the origin's distance to it is enumerated over its faces (hull_local_signed_distance,
+  // which shares nothing with GJK/EPA).
+  const ConvexHull hull = ConvexHull::from_points(difference);
+  return hull_local_signed_distance(hull, -hull.centre_of_mass_offset()) - radius_a - radius_b;
 }
 
 int deepest_point(const Manifold& m) {

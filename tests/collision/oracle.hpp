@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "collision/contact.hpp"
+#include "collision/convex_hull.hpp"
 #include "collision/shape.hpp"
 
 namespace tumble::testing {
@@ -62,6 +63,10 @@ Real hull_signed_distance_of_origin(const std::vector<Vec3>& points);
 // narrow phase's Ericson clamping.
 Real segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 Real point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b);
+
+// Signed distance of a local point to a convex hull: the largest face-plane distance inside,
+// the nearest face triangle (fan of each face) outside.
+Real hull_local_signed_distance(const ConvexHull& hull, const Vec3& local_point);
 
 // Deepest point of a manifold (index), or -1 when empty.
 int deepest_point(const Manifold& m);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "collision/convex_hull.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble {
@@ -252,6 +253,43 @@ bodies:
   expect_close(s.bodies[2].mass, m_capsule, "core-less capsule");
   const Real i_capsule = 0.4 * m_capsule * 0.01;
   expect_diagonal(s.bodies[2].inertia, i_capsule, i_capsule, i_capsule);
+}
+
+TEST(SceneLoader, CylinderAndHullGetMassAndInertiaByClosedForm) {
+  // A hull given as the corners of a box [0, 2] x [0, 1] x [0, 1]: the box's mass properties,
+  // and the body moved to the box's centre (the hull is re-centred on its centre of mass).
+  const Scene s = load(R"(
+bodies:
+  - shape: {type: cylinder, radius: 0.2, half_length: 0.5}
+    density: 100
+  - shape:
+      type: hull
+      points: [[0, 0, 0], [2, 0, 0], [0, 1, 0], [2, 1, 0], [0, 0, 1], [2, 0, 1], [0, 1, 1], [2, 1, 1]]
+    position: [10, 0, 0]
+    orientation: [0.7071067811865476, 0, 0, 0.7071067811865476]
+    density: 3
+)");
+  const Real m_cylinder = 100 * kPi * 0.04 * 1.0;
+  expect_close(s.bodies[0].mass, m_cylinder, "cylinder");
+  expect_diagonal(s.bodies[0].inertia, m_cylinder * (3 * 0.04 + 1.0) / 12,
+                  m_cylinder * (3 * 0.04 + 1.0) / 12, m_cylinder * 0.04 / 2);
+  const Real m_hull = 3 * 2.0;
+  expect_close(s.bodies[1].mass, m_hull, "hull");
+  // Computed by the divergence theorem from tetrahedra: off-diagonal terms cancel to rounding.
+  const Mat3 expected =
+      Vec3(m_hull * (1 + 1) / 12, m_hull * (4 + 1) / 12, m_hull * (4 + 1) / 12).asDiagonal();
+  EXPECT_LT((s.bodies[1].inertia - expected).norm(), 1e-12);
+  // The centre (1, 0.5, 0.5) in the body frame, turned 90 degrees about z: (-0.5, 1, 0.5).
+  EXPECT_NEAR((s.bodies[1].position - Vec3(9.5, 1, 0.5)).norm(), 0, 1e-12);
+}
+
+TEST(SceneLoader, HullFromAnObjFileNextToTheScene) {
+  const Scene s = load_scene_file(kSourceDir / "tests/data/scenes/hull_from_obj.yaml");
+  ASSERT_EQ(s.bodies.size(), 1u);
+  EXPECT_EQ(s.bodies[0].shape.type, ShapeType::hull);
+  EXPECT_EQ(s.bodies[0].shape.hull->vertices().size(), 8u);
+  expect_close(s.bodies[0].mass, 2000, "OBJ hull");
+  EXPECT_NEAR((s.bodies[0].position - Vec3(1, 0.5, 1.5)).norm(), 0, 1e-12);
 }
 
 TEST(SceneLoader, OrientationIsNormalisedExactlyWithinTolerance) {

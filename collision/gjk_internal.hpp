@@ -1,0 +1,92 @@
+// Internal to GJK and EPA: both run in the local frame of A, with B placed relative to A by one
+// rotation matrix and translation computed once per query, so a support call on A costs no
+// rotation and one on B costs two matrix-vector products.
+#pragma once
+
+#include "collision/convex_hull.hpp"
+#include "collision/gjk.hpp"
+
+namespace tumble::detail {
+
+// Core support of `s` in its own local frame; `index` is the hill-climbing hint in and the
+// feature index out.
+inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index) {
+  if (s.shape == nullptr) {
+    int best = 0;
+    Real best_value = s.points[0].dot(d);
+    for (int i = 1; i < s.point_count; ++i) {
+      const Real value = s.points[i].dot(d);
+      if (value > best_value) {
+        best_value = value;
+        best = i;
+      }
+    }
+    index = best;
+    return s.points[best];
+  }
+  const Shape& shape = *s.shape;
+  switch (shape.type) {
+    case ShapeType::sphere:
+      index = 0;
+      return Vec3::Zero();
+    case ShapeType::capsule:
+      index = d.z() < 0 ? 0 : 1;
+      return Vec3(0, 0, d.z() < 0 ? -shape.half_length : shape.half_length);
+    case ShapeType::box: {
+      const Vec3& h = shape.half_extents;
+      const int bits = (d.x() < 0 ? 0 : 1) | (d.y() < 0 ? 0 : 2) | (d.z() < 0 ? 0 : 4);
+      index = bits;
+      return {d.x() < 0 ? -h.x() : h.x(), d.y() < 0 ? -h.y() : h.y(), d.z() < 0 ? -h.z() : h.z()};
+    }
+    case ShapeType::cylinder: {
+      const Real radial2 = d.x() * d.x() + d.y() * d.y();
+      const Real z = d.z() < 0 ? -shape.half_length : shape.half_length;
+      index = d.z() < 0 ? 0 : 1;
+      if (radial2 > 0) {
+        const Real scale = shape.radius / std::sqrt(radial2);
+        return {d.x() * scale, d.y() * scale, z};
+      }
+      return {0, 0, z};
+    }
+    case ShapeType::hull: {
+      index = shape.hull->support_index(d, index);
+      return shape.hull->vertex(index);
+    }
+    case ShapeType::plane:
+    case ShapeType::mesh:
+    case ShapeType::compound:
+      break;
+  }
+  index = 0;
+  return Vec3::Zero();
+}
+
+// A and B in A's local frame.
+struct PairInA {
+  const ConvexSupport* a;
+  const ConvexSupport* b;
+  Mat3 rotation_b;  // B local -> A local
+  Vec3 translation_b;
+  int hint_a = 0;
+  int hint_b = 0;
+
+  PairInA(const ConvexSupport& sa, const ConvexSupport& sb) : a(&sa), b(&sb) {
+    const Quat q = sa.pose.rotation.conjugate() * sb.pose.rotation;
+    rotation_b = q.toRotationMatrix();
+    translation_b = sa.pose.rotation.conjugate() * (sb.pose.translation - sa.pose.translation);
+  }
+
+  // Vertex of A - B farthest along `d` (A's frame).
+  SimplexVertex support(const Vec3& d) {
+    SimplexVertex v;
+    v.a = local_core_support(*a, d, hint_a);
+    v.index_a = hint_a;
+    const Vec3 d_b = rotation_b.transpose() * (-d);
+    v.b = rotation_b * local_core_support(*b, d_b, hint_b) + translation_b;
+    v.index_b = hint_b;
+    v.w = v.a - v.b;
+    return v;
+  }
+};
+
+}  // namespace tumble::detail

@@ -1,0 +1,295 @@
+// Narrow-phase benchmark (issue 3): tumble and Bullet (float64 build) in the same binary, on the
+// same precomputed random poses, five comparisons:
+//   1. box-box manifold: tumble collide() vs btBoxBoxDetector::getClosestPoints;
+//   2. GJK on separated boxes and 3. on separated 43-vertex hulls: tumble gjk() vs
+//      btGjkPairDetector (btVoronoiSimplexSolver, margins 0);
+//   4. GJK+EPA on penetrating 43-vertex hulls: tumble gjk()+epa() vs btGjkPairDetector with
+//      btGjkEpaPenetrationDepthSolver;
+//   5. sphere-sphere over an array of 10,000 pairs: tumble collide() in a loop vs Bullet's
+//      per-pair path (btSphereSphereCollisionAlgorithm::processCollision through
+//      btCollisionObjectWrapper and btManifoldResult, the algorithm created once per pair as the
+//      dispatcher caches it).
+// Each benchmark reports items per second; the ratios go to docs/narrow-phase-benchmark.md.
+#include <benchmark/benchmark.h>
+#include <btBulletCollisionCommon.h>
+
+#include <BulletCollision/CollisionDispatch/btBoxBoxDetector.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btSphereSphereCollisionAlgorithm.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "collision/convex_hull.hpp"
+#include "collision/epa.hpp"
+#include "collision/gjk.hpp"
+#include "collision/narrow_phase.hpp"
+
+namespace {
+
+using namespace tumble;
+using Rng = std::mt19937_64;
+
+constexpr int kPoses = 1024;
+
+Vec3 unit_vector(Rng& rng) {
+  std::normal_distribution<Real> n(0, 1);
+  return Vec3(n(rng), n(rng), n(rng)).normalized();
+}
+
+Quat rotation(Rng& rng) {
+  std::normal_distribution<Real> n(0, 1);
+  return Quat(n(rng), n(rng), n(rng), n(rng)).normalized();
+}
+
+btTransform to_bullet(const Transform& t) {
+  return btTransform(btQuaternion(t.rotation.x(), t.rotation.y(), t.rotation.z(), t.rotation.w()),
+                     btVector3(t.translation.x(), t.translation.y(), t.translation.z()));
+}
+
+struct PosePair {
+  Transform a;
+  Transform b;
+};
+
+// B's centre at `distance` times the sum of bounding radii from A's, random orientations.
+std::vector<PosePair> poses(Real low, Real high, Real reach, std::uint64_t seed) {
+  Rng rng(seed);
+  std::uniform_real_distribution<Real> u(low, high);
+  std::vector<PosePair> out;
+  for (int i = 0; i < kPoses; ++i) {
+    const Transform a{Vec3::Zero(), rotation(rng)};
+    out.push_back({a, {unit_vector(rng) * u(rng) * reach, rotation(rng)}});
+  }
+  return out;
+}
+
+// 43 points on an ellipsoid: the hull of the issue's benchmark.
+std::shared_ptr<const ConvexHull> hull43() {
+  Rng rng(43);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 43; ++i)
+    points.push_back(unit_vector(rng).cwiseProduct(Vec3(0.6, 0.5, 0.4)));
+  return std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
+}
+
+std::unique_ptr<btConvexHullShape> bullet_hull(const ConvexHull& hull) {
+  auto shape = std::make_unique<btConvexHullShape>();
+  for (const Vec3& v : hull.vertices())
+    shape->addPoint(btVector3(v.x(), v.y(), v.z()), false);
+  shape->recalcLocalAabb();
+  shape->setMargin(0);
+  return shape;
+}
+
+// A Result that keeps nothing: the detectors' cost without a manifold's bookkeeping.
+struct CountingResult : btDiscreteCollisionDetectorInterface::Result {
+  int points = 0;
+  void setShapeIdentifiersA(int, int) override {}
+  void setShapeIdentifiersB(int, int) override {}
+  void addContactPoint(const btVector3&, const btVector3&, btScalar) override { ++points; }
+};
+
+// ---- 1. box-box manifold ---------------------------------------------------------------------
+
+const Vec3 kBoxHalf(0.5, 0.4, 0.3);
+
+void BM_BoxBoxManifold_Tumble(benchmark::State& state) {
+  const Shape box = Shape::box(kBoxHalf);
+  const auto p = poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1);
+  Manifold m;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    benchmark::DoNotOptimize(collide(box, q.a, box, q.b, 0, m));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
+  btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
+  box.setMargin(0);
+  const auto p = poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1);
+  btBoxBoxDetector detector(&box, &box);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    btDiscreteCollisionDetectorInterface::ClosestPointInput input;
+    input.m_transformA = to_bullet(q.a);
+    input.m_transformB = to_bullet(q.b);
+    CountingResult result;
+    detector.getClosestPoints(input, result, nullptr);
+    benchmark::DoNotOptimize(result.points);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+// ---- 2./3. GJK on separated pairs --------------------------------------------------------------
+
+void run_tumble_gjk(benchmark::State& state, const Shape& shape, Real reach, bool with_epa,
+                    Real low, Real high) {
+  const auto p = poses(low, high, reach, 2);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    const ConvexSupport a = ConvexSupport::of(shape, q.a);
+    const ConvexSupport b = ConvexSupport::of(shape, q.b);
+    const GjkResult g = gjk(a, b);
+    if (with_epa && g.status == GjkStatus::intersecting) {
+      benchmark::DoNotOptimize(epa(a, b, g).depth);
+    } else {
+      benchmark::DoNotOptimize(g.distance);
+    }
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void run_bullet_gjk(benchmark::State& state, const btConvexShape& shape, Real reach, Real low,
+                    Real high) {
+  const auto p = poses(low, high, reach, 2);
+  btVoronoiSimplexSolver simplex;
+  btGjkEpaPenetrationDepthSolver epa;
+  btGjkPairDetector detector(&shape, &shape, &simplex, &epa);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    btDiscreteCollisionDetectorInterface::ClosestPointInput input;
+    input.m_transformA = to_bullet(q.a);
+    input.m_transformB = to_bullet(q.b);
+    input.m_maximumDistanceSquared = BT_LARGE_FLOAT;
+    btPointCollector out;
+    detector.getClosestPoints(input, out, nullptr);
+    benchmark::DoNotOptimize(out.m_distance);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_GjkSeparatedBoxes_Tumble(benchmark::State& state) {
+  run_tumble_gjk(state, Shape::box(kBoxHalf), 2 * kBoxHalf.norm(), false, 1.05, 1.5);
+}
+
+void BM_GjkSeparatedBoxes_Bullet(benchmark::State& state) {
+  btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
+  box.setMargin(0);
+  run_bullet_gjk(state, box, 2 * kBoxHalf.norm(), 1.05, 1.5);
+}
+
+void BM_GjkSeparatedHulls43_Tumble(benchmark::State& state) {
+  const Shape hull = Shape::convex_hull(hull43());
+  run_tumble_gjk(state, hull, 2 * bounding_radius(hull), false, 1.05, 1.5);
+}
+
+void BM_GjkSeparatedHulls43_Bullet(benchmark::State& state) {
+  const auto hull = hull43();
+  const auto shape = bullet_hull(*hull);
+  run_bullet_gjk(state, *shape, 2 * hull->bounding_radius(), 1.05, 1.5);
+}
+
+// ---- 4. GJK+EPA on penetrating hulls ---------------------------------------------------------
+
+void BM_GjkEpaPenetratingHulls43_Tumble(benchmark::State& state) {
+  const Shape hull = Shape::convex_hull(hull43());
+  run_tumble_gjk(state, hull, 2 * bounding_radius(hull), true, 0.1, 0.5);
+}
+
+void BM_GjkEpaPenetratingHulls43_Bullet(benchmark::State& state) {
+  const auto hull = hull43();
+  const auto shape = bullet_hull(*hull);
+  run_bullet_gjk(state, *shape, 2 * hull->bounding_radius(), 0.1, 0.5);
+}
+
+// ---- 5. sphere-sphere over 10,000 pairs ------------------------------------------------------
+
+constexpr int kSpherePairs = 10000;
+
+void BM_SphereSphereArray_Tumble(benchmark::State& state) {
+  Rng rng(5);
+  std::uniform_real_distribution<Real> u(0.5, 1.2);
+  std::vector<Shape> shapes;
+  std::vector<PosePair> pairs;
+  for (int i = 0; i < kSpherePairs; ++i) {
+    shapes.push_back(Shape::sphere(0.5));
+    pairs.push_back({{Vec3(i, 0, 0), Quat::Identity()},
+                     {Vec3(i, 0, 0) + unit_vector(rng) * u(rng), Quat::Identity()}});
+  }
+  const Shape sphere = Shape::sphere(0.5);
+  Manifold m;
+  for (auto _ : state) {
+    int contacts = 0;
+    for (const PosePair& q : pairs)
+      contacts += collide(sphere, q.a, sphere, q.b, 0, m);
+    benchmark::DoNotOptimize(contacts);
+  }
+  state.SetItemsProcessed(state.iterations() * kSpherePairs);
+}
+
+void BM_SphereSphereArray_Bullet(benchmark::State& state) {
+  Rng rng(5);
+  std::uniform_real_distribution<Real> u(0.5, 1.2);
+  btSphereShape sphere(0.5);
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  std::vector<std::unique_ptr<btCollisionObject>> objects;
+  for (int i = 0; i < 2 * kSpherePairs; ++i) {
+    auto object = std::make_unique<btCollisionObject>();
+    object->setCollisionShape(&sphere);
+    btTransform t;
+    t.setIdentity();
+    const Vec3 offset = i % 2 == 0 ? Vec3::Zero() : Vec3(unit_vector(rng) * u(rng));
+    t.setOrigin(btVector3(i / 2 + offset.x(), offset.y(), offset.z()));
+    object->setWorldTransform(t);
+    objects.push_back(std::move(object));
+  }
+  std::vector<btPersistentManifold*> manifolds;
+  std::vector<btCollisionAlgorithm*> algorithms;
+  for (int i = 0; i < kSpherePairs; ++i) {
+    btCollisionObject* a = objects[std::size_t(2 * i)].get();
+    btCollisionObject* b = objects[std::size_t(2 * i + 1)].get();
+    btCollisionObjectWrapper wa(nullptr, &sphere, a, a->getWorldTransform(), -1, -1);
+    btCollisionObjectWrapper wb(nullptr, &sphere, b, b->getWorldTransform(), -1, -1);
+    btPersistentManifold* manifold = dispatcher.getNewManifold(a, b);
+    manifolds.push_back(manifold);
+    algorithms.push_back(dispatcher.findAlgorithm(&wa, &wb, manifold, BT_CONTACT_POINT_ALGORITHMS));
+  }
+  btDispatcherInfo info;
+  for (auto _ : state) {
+    int contacts = 0;
+    for (int i = 0; i < kSpherePairs; ++i) {
+      btCollisionObject* a = objects[std::size_t(2 * i)].get();
+      btCollisionObject* b = objects[std::size_t(2 * i + 1)].get();
+      btCollisionObjectWrapper wa(nullptr, &sphere, a, a->getWorldTransform(), -1, -1);
+      btCollisionObjectWrapper wb(nullptr, &sphere, b, b->getWorldTransform(), -1, -1);
+      btManifoldResult result(&wa, &wb);
+      algorithms[std::size_t(i)]->processCollision(&wa, &wb, info, &result);
+      contacts += manifolds[std::size_t(i)]->getNumContacts();
+    }
+    benchmark::DoNotOptimize(contacts);
+  }
+  state.SetItemsProcessed(state.iterations() * kSpherePairs);
+  for (btCollisionAlgorithm* algorithm : algorithms) {
+    algorithm->~btCollisionAlgorithm();
+    dispatcher.freeCollisionAlgorithm(algorithm);
+  }
+  for (btPersistentManifold* manifold : manifolds)
+    dispatcher.releaseManifold(manifold);
+}
+
+BENCHMARK(BM_BoxBoxManifold_Tumble);
+BENCHMARK(BM_BoxBoxManifold_Bullet);
+BENCHMARK(BM_GjkSeparatedBoxes_Tumble);
+BENCHMARK(BM_GjkSeparatedBoxes_Bullet);
+BENCHMARK(BM_GjkSeparatedHulls43_Tumble);
+BENCHMARK(BM_GjkSeparatedHulls43_Bullet);
+BENCHMARK(BM_GjkEpaPenetratingHulls43_Tumble);
+BENCHMARK(BM_GjkEpaPenetratingHulls43_Bullet);
+BENCHMARK(BM_SphereSphereArray_Tumble);
+BENCHMARK(BM_SphereSphereArray_Bullet);
+
+}  // namespace
+
+BENCHMARK_MAIN();
