@@ -81,12 +81,23 @@ int ordered(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 }
 
 int no_contact(const Shape&, const Transform&, const Shape&, const Transform&, Real, Manifold&) {
-  return 0;  // planes are infinite and static: they never collide with each other
+  // Planes and meshes are static: two static shapes never need contacts (plane-plane,
+  // plane-mesh, mesh-mesh).
+  return 0;
+}
+
+// Cylinder and hull pairs belong to the convex core (GJK/EPA, branch `narrow`); until it is
+// merged their cells report no contact.
+int not_implemented(const Shape&, const Transform&, const Shape&, const Transform&, Real,
+                    Manifold&) {
+  return 0;
 }
 
 static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
                   int(ShapeType::capsule) == 2 && int(ShapeType::plane) == 3 &&
-                  kShapeTypeCount == 4,
+                  int(ShapeType::cylinder) == 4 && int(ShapeType::hull) == 5 &&
+                  int(ShapeType::mesh) == 6 && int(ShapeType::compound) == 7 &&
+                  kShapeTypeCount == 8,
               "the table below is indexed by ShapeType");
 
 using namespace detail;
@@ -95,12 +106,17 @@ using namespace detail;
 // f with the arguments swapped and mirrors its answer, `ordered<f>` does one or the other for
 // two shapes of one type.
 // clang-format off
+constexpr PairFunction cyl = not_implemented;
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
-  //              sphere                    box                         capsule                       plane
-  /* sphere  */ {{ordered<sphere_sphere>,  in_pair_frame<sphere_box>,  in_pair_frame<sphere_capsule>, in_pair_frame<sphere_plane>}},
-  /* box     */ {{flipped<sphere_box>,     ordered<box_box>,           flipped<capsule_box>,          in_pair_frame<box_plane>}},
-  /* capsule */ {{flipped<sphere_capsule>, in_pair_frame<capsule_box>, ordered<capsule_capsule>,      in_pair_frame<capsule_plane>}},
-  /* plane   */ {{flipped<sphere_plane>,   flipped<box_plane>,         flipped<capsule_plane>,        no_contact}},
+  //              sphere                    box                         capsule                       plane                          cylinder hull mesh                         compound
+  /* sphere  */ {{ordered<sphere_sphere>,  in_pair_frame<sphere_box>,  in_pair_frame<sphere_capsule>, in_pair_frame<sphere_plane>,  cyl, cyl, in_pair_frame<convex_mesh>,  flipped<compound_any>}},
+  /* box     */ {{flipped<sphere_box>,     ordered<box_box>,           flipped<capsule_box>,          in_pair_frame<box_plane>,     cyl, cyl, in_pair_frame<convex_mesh>,  flipped<compound_any>}},
+  /* capsule */ {{flipped<sphere_capsule>, in_pair_frame<capsule_box>, ordered<capsule_capsule>,      in_pair_frame<capsule_plane>, cyl, cyl, in_pair_frame<convex_mesh>,  flipped<compound_any>}},
+  /* plane   */ {{flipped<sphere_plane>,   flipped<box_plane>,         flipped<capsule_plane>,        no_contact,                   cyl, cyl, no_contact,                  flipped<compound_any>}},
+  /* cylinder*/ {{cyl,                     cyl,                        cyl,                           cyl,                          cyl, cyl, in_pair_frame<convex_mesh>,  flipped<compound_any>}},
+  /* hull    */ {{cyl,                     cyl,                        cyl,                           cyl,                          cyl, cyl, in_pair_frame<convex_mesh>,  flipped<compound_any>}},
+  /* mesh    */ {{flipped<convex_mesh>,    flipped<convex_mesh>,       flipped<convex_mesh>,          no_contact,                   flipped<convex_mesh>, flipped<convex_mesh>, no_contact, flipped<compound_any>}},
+  /* compound*/ {{in_pair_frame<compound_any>, in_pair_frame<compound_any>, in_pair_frame<compound_any>, in_pair_frame<compound_any>, in_pair_frame<compound_any>, in_pair_frame<compound_any>, in_pair_frame<compound_any>, ordered<compound_any>}},
 }};
 // clang-format on
 

@@ -1,5 +1,8 @@
 #include "collision/shape.hpp"
 
+#include "collision/compound_shape.hpp"
+#include "collision/triangle_mesh.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -15,6 +18,14 @@ std::string_view shape_type_name(ShapeType type) {
       return "capsule";
     case ShapeType::plane:
       return "plane";
+    case ShapeType::cylinder:
+      return "cylinder";
+    case ShapeType::hull:
+      return "hull";
+    case ShapeType::mesh:
+      return "mesh";
+    case ShapeType::compound:
+      return "compound";
   }
   return "unknown";
 }
@@ -47,6 +58,20 @@ Shape Shape::plane() {
   return s;
 }
 
+Shape Shape::triangle_mesh(std::shared_ptr<const TriangleMesh> mesh) {
+  Shape s;
+  s.type = ShapeType::mesh;
+  s.mesh = std::move(mesh);
+  return s;
+}
+
+Shape Shape::compound_of(std::shared_ptr<const CompoundShape> compound) {
+  Shape s;
+  s.type = ShapeType::compound;
+  s.compound = std::move(compound);
+  return s;
+}
+
 namespace {
 
 // Unit vector along `d`, or +z for a zero direction, so support maps never divide by zero.
@@ -71,7 +96,13 @@ Vec3 support(const Shape& shape, const Vec3& d) {
               sign_or_plus(d.z()) * shape.half_extents.z()};
     case ShapeType::capsule:
       return Vec3(0, 0, sign_or_plus(d.z()) * shape.half_length) + unit_or_z(d) * shape.radius;
+    case ShapeType::mesh:
+      return shape.mesh->support(d);
+    case ShapeType::compound:
+      return shape.compound->support(d);
     case ShapeType::plane:
+    case ShapeType::cylinder:
+    case ShapeType::hull:
       break;
   }
   return Vec3::Zero();
@@ -110,6 +141,13 @@ Aabb world_aabb(const Shape& shape, const Transform& pose) {
       }
       return box;
     }
+    case ShapeType::mesh:
+      return shape.mesh->world_aabb(pose);
+    case ShapeType::compound:
+      return shape.compound->world_aabb(pose);
+    case ShapeType::cylinder:
+    case ShapeType::hull:
+      break;
   }
   return {};
 }
@@ -126,6 +164,13 @@ Real volume(const Shape& shape) {
       return pi * r * r * (2 * shape.half_length) + Real(4) / 3 * pi * r * r * r;
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
+    case ShapeType::mesh:
+      return shape.mesh->volume();  // 0 for an open mesh
+    case ShapeType::compound:
+      return shape.compound->volume();
+    case ShapeType::cylinder:
+    case ShapeType::hull:
+      break;
   }
   return 0;
 }
@@ -155,6 +200,13 @@ Mat3 unit_inertia(const Shape& shape) {
     }
     case ShapeType::plane:
       return Mat3::Zero();
+    case ShapeType::mesh:
+      return shape.mesh->unit_inertia();  // about the mesh's centroid; zero when open
+    case ShapeType::compound:
+      return shape.compound->unit_inertia();
+    case ShapeType::cylinder:
+    case ShapeType::hull:
+      break;
   }
   return Mat3::Zero();
 }
@@ -169,6 +221,13 @@ Real bounding_radius(const Shape& shape) {
       return shape.half_length + shape.radius;
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
+    case ShapeType::mesh:
+      return shape.mesh->bounding_radius();
+    case ShapeType::compound:
+      return shape.compound->bounding_radius();
+    case ShapeType::cylinder:
+    case ShapeType::hull:
+      break;
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include "collision/aabb.hpp"
@@ -10,8 +11,12 @@
 
 namespace tumble {
 
-enum class ShapeType : std::uint8_t { sphere, box, capsule, plane };
-inline constexpr int kShapeTypeCount = 4;
+// The numbering is fixed (tables and files index by it).
+enum class ShapeType : std::uint8_t { sphere, box, capsule, plane, cylinder, hull, mesh, compound };
+inline constexpr int kShapeTypeCount = 8;
+
+class TriangleMesh;   // collision/triangle_mesh.hpp
+class CompoundShape;  // collision/compound_shape.hpp
 
 std::string_view shape_type_name(ShapeType type);
 
@@ -19,14 +24,18 @@ std::string_view shape_type_name(ShapeType type);
 // dispatch is an index into a table. Fields a type does not use stay zero.
 struct Shape {
   ShapeType type = ShapeType::sphere;
-  Real radius = 0;                   // sphere, capsule [m]
-  Real half_length = 0;              // capsule: half the length of the core segment [m]
-  Vec3 half_extents = Vec3::Zero();  // box [m]
+  Real radius = 0;                           // sphere, capsule [m]
+  Real half_length = 0;                      // capsule: half the length of the core segment [m]
+  Vec3 half_extents = Vec3::Zero();          // box [m]
+  std::shared_ptr<const TriangleMesh> mesh;  // mesh (static only)
+  std::shared_ptr<const CompoundShape> compound;  // compound
 
   static Shape sphere(Real radius);
   static Shape box(const Vec3& half_extents);
   static Shape capsule(Real radius, Real half_length);
   static Shape plane();
+  static Shape triangle_mesh(std::shared_ptr<const TriangleMesh> mesh);
+  static Shape compound_of(std::shared_ptr<const CompoundShape> compound);
 
   // Bounded shapes can be dynamic; a plane is infinite and only ever static.
   bool is_bounded() const { return type != ShapeType::plane; }
