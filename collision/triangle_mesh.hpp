@@ -113,8 +113,14 @@ void TriangleMesh::for_each_overlapping(const Aabb& box, Visit&& visit) const {
     if (!node.bounds.overlaps(box))
       continue;
     if (node.count > 0) {
-      for (std::int32_t i = node.first; i < node.first + node.count; ++i)
-        visit(int(leaf_triangles_[i]));
+      for (std::int32_t i = node.first; i < node.first + node.count; ++i) {
+        const int t = int(leaf_triangles_[i]);
+        Aabb triangle_box;
+        for (int k = 0; k < 3; ++k)
+          triangle_box.grow(corner(t, k));
+        if (triangle_box.overlaps(box))
+          visit(t);
+      }
       continue;
     }
     // Right child pushed first so the left one is visited first.

@@ -74,6 +74,58 @@ Polygon clip(const Polygon& in, Distance distance, Label label) {
   return out;
 }
 
+// Exact closest points of the box [-h, h] and a triangle that does not touch it: for two
+// disjoint convex polytopes the minimum is reached vertex against face (either way round) or
+// edge against edge, so 8 + 3 + 12 x 3 candidates cover it. Ties keep the first found.
+struct ClosestFeatures {
+  Real distance_squared = std::numeric_limits<Real>::infinity();
+  Vec3 on_box;
+  Vec3 on_triangle;
+  std::uint16_t box_feature = 0;
+  TriangleRegion region = TriangleRegion::face;
+};
+
+ClosestFeatures closest_box_triangle(const Vec3& h, const std::array<Vec3, 3>& u) {
+  ClosestFeatures best;
+  const auto offer = [&](const Vec3& on_box, const Vec3& on_triangle, std::uint16_t feature,
+                         TriangleRegion region) {
+    const Real d2 = (on_box - on_triangle).squaredNorm();
+    if (d2 < best.distance_squared)
+      best = {d2, on_box, on_triangle, feature, region};
+  };
+  const auto corner_of = [&](int bits) {
+    return Vec3((bits & 1) ? h.x() : -h.x(), (bits & 2) ? h.y() : -h.y(),
+                (bits & 4) ? h.z() : -h.z());
+  };
+  for (int bits = 0; bits < 8; ++bits) {
+    TriangleRegion region = TriangleRegion::face;
+    const Vec3 corner = corner_of(bits);
+    offer(corner, closest_point_on_triangle(corner, u, region), feature::box_vertex(bits), region);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 clamped = u[k].cwiseMax(-h).cwiseMin(h);
+    offer(clamped, u[k], box_feature_of_outside_point(u[k], h), corner_region(k));
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int bits = 0; bits < 8; ++bits) {
+      if (bits & (1 << axis))
+        continue;  // each edge once, from its negative end
+      const Vec3 e0 = corner_of(bits);
+      const Vec3 e1 = corner_of(bits | (1 << axis));
+      for (int j = 0; j < 3; ++j) {
+        Real s = 0;
+        Real t = 0;
+        closest_parameters_between_segments(e0, e1, u[j], u[(j + 1) % 3], s, t);
+        const TriangleRegion region =
+            t <= 0 ? corner_region(j) : (t >= 1 ? corner_region((j + 1) % 3) : edge_region(j));
+        offer(e0 + (e1 - e0) * s, u[j] + (u[(j + 1) % 3] - u[j]) * t, feature::box_edge(axis, bits),
+              region);
+      }
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 RegionUse region_use(const TriangleView& tri, TriangleRegion region) {
@@ -91,10 +143,10 @@ RegionUse region_use(const TriangleView& tri, TriangleRegion region) {
         return RegionUse::drop;
     }
   }
-  const int k = r - 4;
+  const unsigned k = unsigned(r - 4) % 3u;  // 0..2 (the modulo also tells the compiler so)
   if (tri.corner_active[k])
     return RegionUse::keep;
-  if (tri.edge[k] == EdgeKind::concave || tri.edge[(k + 2) % 3] == EdgeKind::concave)
+  if (tri.edge[k] == EdgeKind::concave || tri.edge[(k + 2) % 3u] == EdgeKind::concave)
     return RegionUse::drop;
   return RegionUse::use_face;
 }
@@ -194,7 +246,7 @@ int capsule_triangle(const Shape& capsule, const TriangleView& tri, Real margin,
   Real segment_t = 0;
   TriangleRegion region = TriangleRegion::face;
   for (int i = 0; i < 2; ++i) {
-    TriangleRegion rg;
+    TriangleRegion rg = TriangleRegion::face;
     const Vec3 q = closest_point_on_triangle(end[i], tri.corner, rg);
     const Real d2 = (end[i] - q).squaredNorm();
     if (d2 < best) {
@@ -228,17 +280,55 @@ int capsule_triangle(const Shape& capsule, const TriangleView& tri, Real margin,
     pierces = projects_inside(end[0] + (end[1] - end[0]) * t, tri);
   }
   const Real distance = std::sqrt(best);
+  const bool centre_behind = tri.normal.dot(tri.corner[0]) > 0;
   if (!pierces && distance > Real(1e-12) * scale && region != TriangleRegion::face) {
     const RegionUse use = region_use(tri, region);
     if (use == RegionUse::drop)
       return 0;
     if (use == RegionUse::keep) {
       const Vec3 normal = (on_segment - on_triangle) / distance;
-      if (normal.dot(n) < 0)
+      if (normal.dot(n) < 0 && centre_behind)
         return 0;  // behind the triangle
       contact.normal = normal;
       contact.add(on_segment - normal * r, r - distance, feature::capsule_feature_at(segment_t),
                   region, margin);
+      return contact.count;
+    }
+  }
+  if (pierces || distance <= Real(1e-12) * scale) {
+    // The core touches the triangle: the minimum translation is along a face normal of the
+    // Minkowski sum of segment and triangle (the triangle's normal, front side only, or the
+    // cross product of the core with an edge), chosen by least penetration with the face
+    // preferred; edges that are not real features (internal edges) are not candidates.
+    const Vec3 core = end[1] - end[0];
+    Vec3 best_axis = n;
+    Real best_separation = std::min(height[0], height[1]) - r;
+    int best_edge = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (region_use(tri, edge_region(k)) != RegionUse::keep)
+        continue;
+      const Vec3 edge = tri.corner[(k + 1) % 3] - tri.corner[k];
+      Vec3 l = core.cross(edge);
+      const Real length = l.norm();
+      if (length <= Real(1e-6) * core.norm() * edge.norm())
+        continue;
+      l /= length;
+      const Real lo = std::min({l.dot(tri.corner[0]), l.dot(tri.corner[1]), l.dot(tri.corner[2])});
+      const Real hi = std::max({l.dot(tri.corner[0]), l.dot(tri.corner[1]), l.dot(tri.corner[2])});
+      // l is across the core, which runs through the origin: the capsule spans [-r, r] on it.
+      const Real positive = -r - hi;
+      const Real negative = lo - r;
+      const Real s = std::max(positive, negative);
+      if (clearly_more_separated(s, best_separation, scale)) {
+        best_separation = s;
+        best_axis = positive >= negative ? l : Vec3(-l);
+        best_edge = k;
+      }
+    }
+    if (best_edge >= 0) {
+      contact.normal = best_axis;
+      contact.add(on_segment - best_axis * r, -best_separation, feature::kCapsuleSide,
+                  edge_region(best_edge), margin);
       return contact.count;
     }
   }
@@ -311,12 +401,38 @@ int box_triangle(const Shape& box, const TriangleView& tri, Real margin, Triangl
     }
   }
 
-  if (best.kind != 0) {
+  // Apart and on the face path: the box's closest point, which the clipped face must reach.
+  bool apart_on_face = false;
+  Vec3 closest_on_box = Vec3::Zero();
+  std::uint16_t closest_feature = 0;
+  if (best.separation > 0) {
+    // Apart: the separating-axis value is only a lower bound of the distance, so the contact
+    // comes from the exact closest features. A face-region contact (or one from an internal
+    // edge) takes the face path below, whose clipped points then carry the exact distance.
+    const ClosestFeatures closest = closest_box_triangle(h, u);
+    const Real distance = std::sqrt(closest.distance_squared);
+    const RegionUse use = region_use(tri, closest.region);
+    if (use == RegionUse::drop)
+      return 0;
+    if (closest.region == TriangleRegion::face || use == RegionUse::use_face || !(distance > 0)) {
+      best = {n, -box_radius(n) - n.dot(u[0]), 0, -1, -1};
+      apart_on_face = closest.region == TriangleRegion::face;
+      closest_on_box = closest.on_box;
+      closest_feature = closest.box_feature;
+    } else {
+      const Vec3 normal = (closest.on_box - closest.on_triangle) / distance;
+      if (normal.dot(n) < 0 && n.dot(u[0]) > 0)
+        return 0;  // the box's centre is behind the triangle
+      contact.normal = normal;
+      contact.add(closest.on_box, -distance, closest.box_feature, closest.region, margin);
+      return contact.count;
+    }
+  } else if (best.kind != 0) {
     // The triangle's feature nearest the box along the axis decides whether an axis other than
     // the face normal may be used (internal edges).
     const Vec3& l = best.direction;
-    if (l.dot(n) < 0)
-      return 0;  // behind the triangle
+    if (l.dot(n) < 0 && n.dot(u[0]) > 0)
+      return 0;  // the box's centre is behind the triangle and the axis points further back
     const std::array<Real, 3> along{l.dot(u[0]), l.dot(u[1]), l.dot(u[2])};
     const Real top = std::max({along[0], along[1], along[2]});
     const Real tolerance = Real(1e-9) * scale;
@@ -378,11 +494,31 @@ int box_triangle(const Shape& box, const TriangleView& tri, Real margin, Triangl
             return PolygonVertex{Vec3::Zero(), f, edge_region(e)};
           });
     }
+    Real deepest = -std::numeric_limits<Real>::infinity();
     for (int i = 0; i < polygon.count; ++i) {
       const PolygonVertex& v = polygon.v[i];
-      if (contact.count == TriangleContact::kMaxPoints)
+      if (contact.count == TriangleContact::kMaxPoints - 1)
         break;
-      contact.add(v.p, -n.dot(v.p - u[0]), v.convex_feature, v.region, margin);
+      const Real depth = -n.dot(v.p - u[0]);
+      deepest = std::max(deepest, depth);
+      contact.add(v.p, depth, v.convex_feature, v.region, margin);
+    }
+    // Penetrating, the clipped face may miss the box's deepest corner (it hangs outside the
+    // triangle's prism while the triangle cuts the box): add it, so the manifold's depth is the
+    // separating-axis depth and pushing the box out by it separates the shapes.
+    if (apart_on_face && deepest < -n.dot(closest_on_box - u[0]) - Real(1e-9) * scale) {
+      // Apart: the closest corner of the box lies over the triangle but off the incident face.
+      contact.add(closest_on_box, -n.dot(closest_on_box - u[0]), closest_feature,
+                  TriangleRegion::face, margin);
+    } else if (best.separation <= 0 && deepest < -best.separation - Real(1e-9) * scale) {
+      int bits = 0;
+      Vec3 p;
+      for (int m = 0; m < 3; ++m) {
+        const bool positive = n[m] < 0;
+        bits |= positive ? 1 << m : 0;
+        p[m] = positive ? h[m] : -h[m];
+      }
+      contact.add(p, -n.dot(p - u[0]), feature::box_vertex(bits), TriangleRegion::face, margin);
     }
     return contact.count;
   }
@@ -409,12 +545,25 @@ int box_triangle(const Shape& box, const TriangleView& tri, Real margin, Triangl
             });
       }
     }
+    Real deepest = -std::numeric_limits<Real>::infinity();
     for (int i = 0; i < polygon.count; ++i) {
       const PolygonVertex& v = polygon.v[i];
-      if (contact.count == TriangleContact::kMaxPoints)
+      if (contact.count == TriangleContact::kMaxPoints - 1)
         break;
       const Real depth = h[k] + sigma * v.p[k];
+      deepest = std::max(deepest, depth);
       contact.add(v.p - best.direction * depth, depth, v.convex_feature, v.region, margin);
+    }
+    // As above: the triangle's deepest corner, when clipping lost it.
+    if (deepest < -best.separation - Real(1e-9) * scale) {
+      int c = 0;
+      for (int m = 1; m < 3; ++m)
+        if (sigma * u[m][k] > sigma * u[c][k])
+          c = m;
+      // Its foot on the reference face, kept on the face (the corner may lie beside the box).
+      const Real depth = h[k] + sigma * u[c][k];
+      const Vec3 foot = (u[c] - best.direction * depth).cwiseMax(-h).cwiseMin(h);
+      contact.add(foot, depth, face, corner_region(c), margin);
     }
     return contact.count;
   }
@@ -433,13 +582,29 @@ int box_triangle(const Shape& box, const TriangleView& tri, Real margin, Triangl
   e0[i] = -h[i];
   e1[i] = h[i];
   const int j = best.triangle_edge;
-  Real s = 0;
-  Real t = 0;
-  closest_parameters_between_segments(e0, e1, u[j], u[(j + 1) % 3], s, t);
+  // The triangle's support along l: edge j when both its ends are extreme, else the corner
+  // that is (the axis came from edge j's direction, but the third corner may reach further).
+  const std::array<Real, 3> along{l.dot(u[0]), l.dot(u[1]), l.dot(u[2])};
+  const Real top = std::max({along[0], along[1], along[2]});
+  const Real tolerance = Real(1e-9) * scale;
+  if (along[j] >= top - tolerance && along[(j + 1) % 3] >= top - tolerance) {
+    Real s = 0;
+    Real t = 0;
+    closest_parameters_between_segments(e0, e1, u[j], u[(j + 1) % 3], s, t);
+    const Vec3 on_box = e0 + (e1 - e0) * s;
+    const Vec3 on_triangle = u[j] + (u[(j + 1) % 3] - u[j]) * t;
+    contact.add(on_box, -l.dot(on_box - on_triangle), feature::box_edge(i, bits), edge_region(j),
+                margin);
+    return contact.count;
+  }
+  int c = 0;
+  for (int m = 1; m < 3; ++m)
+    if (along[m] > along[c])
+      c = m;
+  // The corner's closest point on the box edge, moved onto the plane through that edge.
+  const Real s = closest_parameter_on_segment(u[c], e0, e1);
   const Vec3 on_box = e0 + (e1 - e0) * s;
-  const Vec3 on_triangle = u[j] + (u[(j + 1) % 3] - u[j]) * t;
-  contact.add(on_box, -l.dot(on_box - on_triangle), feature::box_edge(i, bits), edge_region(j),
-              margin);
+  contact.add(on_box, -l.dot(on_box - u[c]), feature::box_edge(i, bits), corner_region(c), margin);
   return contact.count;
 }
 

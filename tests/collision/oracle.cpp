@@ -48,6 +48,8 @@ Shape random_shape(Rng& rng, ShapeType type) {
       return Shape::capsule(uniform(rng, 0.1, 0.8), uniform(rng, 0.05, 1.2));
     case ShapeType::plane:
       return Shape::plane();
+    default:  // cylinder, hull, mesh, compound: not part of this oracle
+      break;
   }
   return {};
 }
@@ -73,6 +75,8 @@ Real local_signed_distance(const Shape& shape, const Vec3& p) {
     }
     case ShapeType::plane:
       return p.z();
+    default:  // cylinder, hull, mesh, compound: not part of this oracle
+      break;
   }
   return 0;
 }
@@ -110,6 +114,8 @@ Vec3 random_surface_point(Rng& rng, const Shape& shape) {
     }
     case ShapeType::plane:
       return {uniform(rng, -10, 10), uniform(rng, -10, 10), 0};
+    default:  // cylinder, hull, mesh, compound: not part of this oracle
+      break;
   }
   return Vec3::Zero();
 }
@@ -261,6 +267,8 @@ void core_of(const Shape& shape, const Transform& pose, std::vector<Vec3>& core,
       radius = 0;
       return;
     case ShapeType::plane:
+      break;
+    default:  // cylinder, hull, mesh, compound: not part of this oracle
       break;
   }
 }
