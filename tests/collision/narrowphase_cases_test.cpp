@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "collision/narrow_phase.hpp"
+#include "collision/triangle_mesh.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {
@@ -59,7 +60,16 @@ std::optional<PlacedShape> to_shape(const json& j) {
     const Real offset = j.at("offset");
     return PlacedShape{Shape::plane(), {n * offset, Quat::FromTwoVectors(Vec3::UnitZ(), n)}};
   }
-  return std::nullopt;  // cylinder, cone, triangle, convex_hull: not ours yet
+  if (type == "triangle" && j.contains("vertices_body")) {
+    // A one-triangle mesh (vertices in the body frame; its normal follows their order).
+    std::vector<Vec3> v;
+    for (const json& p : j.at("vertices_body"))
+      v.push_back(to_vec(p));
+    return PlacedShape{Shape::triangle_mesh(std::make_shared<const TriangleMesh>(
+                           TriangleMesh::build(std::move(v), {{0, 1, 2}}))),
+                       {}};
+  }
+  return std::nullopt;  // cylinder, cone, convex_hull, triangle-triangle: not ours yet
 }
 
 Quat to_quat(const json& j) {
@@ -282,6 +292,10 @@ std::optional<Query> resolve(const std::string& label, const json& q, std::strin
     query.pose_b.translation = to_vec(q.at("B_position"));
   if (q.contains("A_quat_wxyz"))
     query.pose_a.rotation = to_quat(q.at("A_quat_wxyz"));
+  if (q.contains("triangle_translation")) {
+    PlacedShape& triangle = query.a.shape.type == ShapeType::mesh ? query.a : query.b;
+    triangle.local.translation += to_vec(q.at("triangle_translation"));
+  }
   if (q.contains("halfspace_translation")) {
     PlacedShape& halfspace = query.a.shape.type == ShapeType::plane ? query.a : query.b;
     halfspace.local.translation += to_vec(q.at("halfspace_translation"));
