@@ -7,7 +7,7 @@ packages=(
   # toolchain
   build-essential g++ cmake ninja-build pkg-config clang-format
   # core and scene loading
-  libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtinyobjloader-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # optional parts: off-screen renderer, video, Bullet oracle, plots
