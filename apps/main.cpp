@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "apps/query_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
@@ -60,6 +61,13 @@ int main(int argc, char** argv) {
   CLI::App* validate_cmd = app.add_subcommand("validate", "Check a scene file and report errors");
   validate_cmd->add_option("scene", validate_scene, "Scene file (YAML)")->required();
 
+  // tumble query FILE.yaml: shape-pair queries, one JSON line each (apps/query_command.hpp).
+  std::filesystem::path query_file;
+  CLI::App* query_cmd = app.add_subcommand(
+      "query", "Answer collision queries between pairs of shapes; one JSON line per query");
+  query_cmd->add_option("file", query_file, "Query file (YAML): queries: [{name, a, b}]")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -76,6 +84,8 @@ int main(int argc, char** argv) {
       return tumble::app::run_command(run);
     if (validate_cmd->parsed())
       return tumble::app::validate_command(validate_scene);
+    if (query_cmd->parsed())
+      return tumble::app::query_command(query_file);
   } catch (const tumble::SceneError& e) {
     std::cerr << e.what() << "\n";
     return 1;

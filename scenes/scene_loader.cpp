@@ -31,6 +31,7 @@
 #include "collision/compound_shape.hpp"
 #include "collision/triangle_mesh.hpp"
 #include "scenes/obj_reader.hpp"
+#include "scenes/query_file.hpp"
 
 namespace tumble {
 
@@ -528,6 +529,15 @@ class Loader {
   Shape load_compound(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;
   Quat read_orientation(const Entry& e, const std::string& path) const;
   Camera load_camera(const Entry& e) const;
+
+ public:
+  // `tumble query` files (scenes/query_file.hpp), parsed with the same shape reader.
+  std::vector<ShapeQuery> load_queries(std::string_view text);
+
+ private:
+  ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
+  void load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
+                         Transform& pose) const;
 
   std::string source_;
 };
@@ -1386,6 +1396,114 @@ Scene load_scene_file(const std::filesystem::path& path) {
     throw SceneError(source, 0, 0, "", std::string("cannot open scene file (") + e.what() + ")");
   }
   return load_scene_string(text, source);
+}
+
+}  // namespace tumble
+
+// ---------------------------------------------------------------------------------------------
+// `tumble query` files: self-contained, so other kinds of query (time of impact) add a kind
+// and their fields here without touching the scene format.
+namespace tumble {
+namespace {
+
+constexpr std::array<std::string_view, 1> kQueryTopKeys{"queries"};
+constexpr std::array<std::string_view, 5> kQueryKeys{"name", "kind", "margin", "a", "b"};
+constexpr std::array<std::string_view, 3> kPlacedShapeKeys{"shape", "position", "orientation"};
+constexpr RealSpec kQueryMargin{"a margin in metres", "0 to 1e6", 0, 1e6};
+
+}  // namespace
+
+void Loader::load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
+                               Transform& pose) const {
+  const Fields f =
+      read_map(e.value, e.mark(), path, "a placed shape {shape, position, orientation}", false);
+  check_known(f, kPlacedShapeKeys);
+  const Entry* s = f.find("shape");
+  if (s == nullptr) {
+    fail(f.mark, child(path, "shape"),
+         "missing required field 'shape', such as {type: sphere, radius: 0.5}");
+  }
+  Vec3 centre_of_mass = Vec3::Zero();
+  shape = load_shape(*s, child(path, "shape"), &centre_of_mass);
+  pose = Transform{};
+  if (const Entry* x = f.find("position")) {
+    pose.translation =
+        read_vector<3>(*x, child(path, "position"), "[x, y, z]", "metres", kCoordinate);
+  }
+  if (const Entry* x = f.find("orientation")) {
+    pose.rotation = read_orientation(*x, child(path, "orientation"));
+  }
+  pose.translation += pose.rotation * centre_of_mass;  // a compound stays where it was written
+}
+
+ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const {
+  const std::string path = index("queries", i);
+  const Fields f = read_map(node, mark, path, "a query {name, a, b}", false);
+  check_known(f, kQueryKeys);
+  ShapeQuery q;
+  q.name = "query" + std::to_string(i);
+  if (const Entry* x = f.find("name")) {
+    q.name = read_name(*x, child(path, "name"), "a query name");
+  }
+  if (const Entry* x = f.find("kind")) {
+    const std::string kind = read_word(*x, child(path, "kind"), "a query kind");
+    if (kind != "contact") {
+      fail(x->mark(), child(path, "kind"), "expected one of: contact, got '" + kind + "'");
+    }
+    q.kind = QueryKind::contact;
+  }
+  if (const Entry* x = f.find("margin")) {
+    q.margin = read_real(*x, child(path, "margin"), kQueryMargin);
+  }
+  for (const char* side : {"a", "b"}) {
+    const Entry* x = f.find(side);
+    if (x == nullptr) {
+      fail(f.mark, child(path, side),
+           std::string("missing required field '") + side +
+               "' (a placed shape {shape, position, orientation})");
+    }
+    if (side[0] == 'a') {
+      load_placed_shape(*x, child(path, side), q.a, q.pose_a);
+    } else {
+      load_placed_shape(*x, child(path, side), q.b, q.pose_b);
+    }
+  }
+  return q;
+}
+
+std::vector<ShapeQuery> Loader::load_queries(std::string_view text) {
+  DocumentBuilder doc;
+  const Node& root = parse(text, doc);
+  YAML::Mark start;
+  start.line = 0;
+  start.column = 0;
+  const Fields top =
+      read_map(root, mark_or(root, start), "", "a map with the field queries", false);
+  check_known(top, kQueryTopKeys);
+  const Entry* e = top.find("queries");
+  if (e == nullptr) {
+    fail(top.mark, "queries", "missing required field 'queries' (a list of at least one query)");
+  }
+  if (!e->value.is_sequence() || e->value.size() == 0) {
+    fail(e->mark(), "queries", "expected a non-empty list of queries, got " + describe(e->value));
+  }
+  std::vector<ShapeQuery> queries;
+  for (std::size_t i = 0; i < e->value.items.size(); ++i) {
+    const Node& node = *e->value.items[i];
+    queries.push_back(load_query(node, mark_or(node, e->mark()), i));
+  }
+  return queries;
+}
+
+std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name) {
+  Loader loader{std::string(source_name)};
+  return loader.load_queries(yaml);
+}
+
+std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  const std::string text = read_file(path, source);
+  return load_query_string(text, source);
 }
 
 }  // namespace tumble
