@@ -2,6 +2,10 @@
 
 #include "collision/manifold_reduction.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 namespace tumble::detail {
 namespace {
 
@@ -50,8 +54,53 @@ int ContactCollector::finish(Real margin, Manifold& out) const {
       continue;
     points[n++] = {c.point_on_a + normal * (depth * Real(0.5)), depth, c.feature};
   }
+  // Points whose depths differ only by rounding (a box flat on a mesh: every corner and every
+  // clipped point at one depth) are equally deep; left to rounding, the "deepest" would be an
+  // arbitrary one of them, often inside the face, and the four kept points would not span it.
+  // So the reduction sees them at one depth with the extreme one along a fixed tangent first:
+  // it then keeps the outline, as it does for a box on a plane.
+  std::array<ContactPoint, kCapacity> selection;
+  Real deepest_depth = -std::numeric_limits<Real>::infinity();
+  Real extent = 0;
+  for (int i = 0; i < n; ++i) {
+    deepest_depth = std::max(deepest_depth, points[i].depth);
+    extent = std::max(extent, (points[i].position - points[0].position).norm());
+  }
+  const Real tie = Real(1e-9) * (extent + std::abs(deepest_depth)) + Real(1e-12);
+  Vec3 tangent;
+  Vec3 bitangent;
+  orthonormal_basis(normal, tangent, bitangent);
+  int lead = -1;
+  for (int i = 0; i < n; ++i) {
+    selection[i] = points[i];
+    if (points[i].depth >= deepest_depth - tie) {
+      selection[i].depth = deepest_depth;
+      if (lead < 0 || points[i].position.dot(tangent) > points[lead].position.dot(tangent))
+        lead = i;
+    }
+  }
+  std::array<int, kCapacity> order;
+  order[0] = lead;
+  for (int i = 0, k = 1; i < n; ++i)
+    if (i != lead)
+      order[k++] = i;
+  std::array<ContactPoint, kCapacity> ordered;
+  for (int i = 0; i < n; ++i)
+    ordered[i] = selection[order[i]];
   std::array<int, kMaxManifoldPoints> kept{};
-  const int count = reduce_manifold(normal, std::span<const ContactPoint>(points.data(), n), kept);
+  const int count = reduce_manifold(normal, std::span<const ContactPoint>(ordered.data(), n), kept);
+  for (int i = 0; i < count; ++i)
+    kept[i] = order[kept[i]];
+  // A canonical order (by feature id, then by candidate) so the solver visits the points in the
+  // same order whichever triangles or parts they came from.
+  const auto before = [&](int x, int y) {
+    const std::uint32_t kx = points[x].feature.key();
+    const std::uint32_t ky = points[y].feature.key();
+    return kx != ky ? kx < ky : x < y;
+  };
+  for (int i = 1; i < count; ++i)  // insertion sort of at most four
+    for (int j = i; j > 0 && before(kept[j], kept[j - 1]); --j)
+      std::swap(kept[j], kept[j - 1]);
   out.normal = normal;
   for (int i = 0; i < count; ++i)
     out.add(points[kept[i]].position, points[kept[i]].depth, points[kept[i]].feature);

@@ -53,8 +53,12 @@ int convex_mesh(const Shape& a, const Transform& pose_a, const Shape& b, const T
     const Vec3 normal = pose_a.rotate(contact.normal);
     for (int i = 0; i < contact.count; ++i) {
       const Vec3 point_on_a = pose_a.apply(contact.point_on_convex[i]);
-      collector.add(normal, point_on_a, contact.depth[i],
-                    {contact.convex_feature[i], feature::mesh_feature(t, int(contact.region[i]))});
+      // Face contacts name the surface, not the triangle, so a corner sliding across a flat
+      // mesh keeps its id (and its warm start) from one triangle to the next.
+      const std::uint16_t mesh_side = contact.region[i] == detail::TriangleRegion::face
+                                          ? feature::kMeshFace
+                                          : feature::mesh_feature(t, int(contact.region[i]));
+      collector.add(normal, point_on_a, contact.depth[i], {contact.convex_feature[i], mesh_side});
     }
   });
   return collector.finish(margin, out);

@@ -64,8 +64,10 @@ int compound_any(const Shape& a, const Transform& pose_a, const Shape& b, const 
 //   box:     vertices 0..7, bit k set when the vertex has a positive coordinate k;
 //            edges 8..19, 8 + 4 * axis + two sign bits of the other two axes (lower axis first);
 //            faces 20..25, 20 + 2 * axis + (1 on the positive side)
-//   mesh:    8 * triangle + region (0 face, 1..3 edges, 4..6 corners), modulo 2^16: unique up
-//            to 8192 triangles; beyond, the solver's nearest-point fallback matches points
+//   mesh:    0xffff for a point inside a triangle's face (any triangle: a point sliding across
+//            a flat mesh keeps its id); else 8 * triangle + region (1..3 edges, 4..6 corners),
+//            modulo 2^16 (unique up to 8191 triangles; beyond, the solver's nearest-point
+//            fallback matches points)
 //   compound: (part index << 8) | (the part's own feature & 0xff)
 namespace feature {
 
@@ -99,6 +101,8 @@ constexpr std::uint16_t box_face(int axis, bool positive) {
 constexpr std::uint16_t capsule_feature_at(Real t) {
   return t <= 0 ? kCapsuleEnd0 : (t >= 1 ? kCapsuleEnd1 : kCapsuleSide);
 }
+
+inline constexpr std::uint16_t kMeshFace = 0xffff;
 
 constexpr std::uint16_t mesh_feature(int triangle, int region) {
   return std::uint16_t((triangle * 8 + region) & 0xffff);
