@@ -6,11 +6,12 @@
 #include <iostream>
 #include <map>
 
-#include "apps/ccd_command.hpp"
 #include "apps/bench_command.hpp"
+#include "apps/ccd_command.hpp"
 #include "apps/compare_command.hpp"
-#include "apps/report_command.hpp"
+#include "apps/query_command.hpp"
 #include "apps/render_command.hpp"
+#include "apps/report_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
@@ -150,6 +151,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4));
   render_cmd->add_flag("!--no-shadows", render.shadows, "Do not draw shadows on the floor");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar, no summary");
+  // tumble query FILE.yaml: shape-pair queries, one JSON line each (apps/query_command.hpp).
+  std::filesystem::path query_file;
+  CLI::App* query_cmd = app.add_subcommand(
+      "query", "Answer collision queries between pairs of shapes; one JSON line per query");
+  query_cmd->add_option("file", query_file, "Query file (YAML): queries: [{name, a, b}]")
+      ->required();
 
   try {
     app.parse(argc, argv);
@@ -177,6 +184,8 @@ int main(int argc, char** argv) {
       return tumble::app::report_command(report);
     if (bench_cmd->parsed())
       return tumble::app::bench_command(bench);
+    if (query_cmd->parsed())
+      return tumble::app::query_command(query_file);
   } catch (const tumble::SceneError& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -86,7 +86,9 @@ int ordered(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 }
 
 int no_contact(const Shape&, const Transform&, const Shape&, const Transform&, Real, Manifold&) {
-  return 0;  // planes are infinite and static: they never collide with each other
+  // Planes and meshes are static: two static shapes never need contacts (plane-plane,
+  // plane-mesh, mesh-mesh).
+  return 0;
 }
 
 static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
@@ -107,22 +109,22 @@ template <PairFunction f>
 constexpr PairFunction same = ordered<f>;
 constexpr PairFunction cvx = in_pair_frame<convex_convex>;
 constexpr PairFunction xvc = flipped<convex_convex>;
-constexpr PairFunction none = collide_unsupported;  // mesh and compound: filled by the mesh work
 
 // collide_table[type of A][type of B]: `as<f>` runs f as written, `fl<f>` runs f with the
 // arguments swapped and mirrors its answer, `same<f>` does one or the other for two shapes of one
-// type. cvx / xvc: the generic GJK/EPA pair (convex_pairs.cpp), as written / flipped.
+// type. cvx / xvc: the generic GJK/EPA pair (convex_pairs.cpp), as written / flipped. Planes
+// and meshes are static, so plane-plane, plane-mesh and mesh-mesh never need contacts.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
-  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh  compound
-  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,                     cvx,                    none, none}},
-  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    none, none}},
-  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    none, none}},
-  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         none, none}},
-  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    none, none}},
-  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<convex_convex>,    none, none}},
-  /* mesh     */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},
-  /* compound */ {{none,              none,               none,                   none,                  none,                     none,                   none, none}},
+  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh         compound
+  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>}},
+  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<convex_convex>,    as<convex_mesh>, fl<compound_any>}},
+  /* mesh     */ {{fl<convex_mesh>,   fl<convex_mesh>,    fl<convex_mesh>,        no_contact,            fl<convex_mesh>,          fl<convex_mesh>,        no_contact,      fl<compound_any>}},
+  /* compound */ {{as<compound_any>,  as<compound_any>,   as<compound_any>,       as<compound_any>,      as<compound_any>,         as<compound_any>,       as<compound_any>, same<compound_any>}},
 }};
 // clang-format on
 

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "collision/compound_shape.hpp"
 #include "collision/convex_hull.hpp"
+#include "collision/triangle_mesh.hpp"
 
 namespace tumble {
 
@@ -72,6 +74,20 @@ Shape Shape::convex_hull(std::shared_ptr<const ConvexHull> hull) {
   return s;
 }
 
+Shape Shape::triangle_mesh(std::shared_ptr<const TriangleMesh> mesh) {
+  Shape s;
+  s.type = ShapeType::mesh;
+  s.mesh = std::move(mesh);
+  return s;
+}
+
+Shape Shape::compound_of(std::shared_ptr<const CompoundShape> compound) {
+  Shape s;
+  s.type = ShapeType::compound;
+  s.compound = std::move(compound);
+  return s;
+}
+
 namespace {
 
 // Unit vector along `d`, or +z for a zero direction, so support maps never divide by zero.
@@ -107,9 +123,11 @@ Vec3 support(const Shape& shape, const Vec3& d) {
     }
     case ShapeType::hull:
       return shape.hull->vertex(shape.hull->support_index(d));
-    case ShapeType::plane:
     case ShapeType::mesh:
+      return shape.mesh->support(d);
     case ShapeType::compound:
+      return shape.compound->support(d);
+    case ShapeType::plane:
       break;
   }
   return Vec3::Zero();
@@ -156,9 +174,6 @@ Aabb world_aabb(const Shape& shape, const Transform& pose) {
       }
       return box;
     }
-    case ShapeType::mesh:
-    case ShapeType::compound:
-      return {};  // placeholder: the mesh work computes these
     case ShapeType::plane: {
       const Real inf = std::numeric_limits<Real>::infinity();
       Aabb box{Vec3::Constant(-inf), Vec3::Constant(inf)};
@@ -173,6 +188,10 @@ Aabb world_aabb(const Shape& shape, const Transform& pose) {
       }
       return box;
     }
+    case ShapeType::mesh:
+      return shape.mesh->world_aabb(pose);
+    case ShapeType::compound:
+      return shape.compound->world_aabb(pose);
   }
   return {};
 }
@@ -194,8 +213,9 @@ Real volume(const Shape& shape) {
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
     case ShapeType::mesh:
+      return shape.mesh->volume();  // 0 for an open mesh
     case ShapeType::compound:
-      return 0;  // placeholder: the mesh work computes these
+      return shape.compound->volume();
   }
   return 0;
 }
@@ -231,9 +251,11 @@ Mat3 unit_inertia(const Shape& shape) {
     case ShapeType::hull:
       return shape.hull->unit_inertia();
     case ShapeType::plane:
-    case ShapeType::mesh:
-    case ShapeType::compound:
       return Mat3::Zero();
+    case ShapeType::mesh:
+      return shape.mesh->unit_inertia();  // about the mesh's centroid; zero when open
+    case ShapeType::compound:
+      return shape.compound->unit_inertia();
   }
   return Mat3::Zero();
 }
@@ -253,8 +275,9 @@ Real bounding_radius(const Shape& shape) {
     case ShapeType::plane:
       return std::numeric_limits<Real>::infinity();
     case ShapeType::mesh:
+      return shape.mesh->bounding_radius();
     case ShapeType::compound:
-      return 0;  // placeholder: the mesh work computes these
+      return shape.compound->bounding_radius();
   }
   return 0;
 }

@@ -13,7 +13,9 @@
 
 namespace tumble {
 
-class ConvexHull;
+class ConvexHull;     // collision/convex_hull.hpp
+class TriangleMesh;   // collision/triangle_mesh.hpp
+class CompoundShape;  // collision/compound_shape.hpp
 
 // The values are fixed: dispatch tables and saved data index by them.
 enum class ShapeType : std::uint8_t {
@@ -39,6 +41,8 @@ struct Shape {
   Vec3 half_extents = Vec3::Zero();  // box [m]
   // hull: the shared, immutable hull (vertices re-centred on its centre of mass).
   std::shared_ptr<const ConvexHull> hull;
+  std::shared_ptr<const TriangleMesh> mesh;       // mesh (static only)
+  std::shared_ptr<const CompoundShape> compound;  // compound
 
   static Shape sphere(Real radius);
   static Shape box(const Vec3& half_extents);
@@ -46,6 +50,8 @@ struct Shape {
   static Shape plane();
   static Shape cylinder(Real radius, Real half_length);
   static Shape convex_hull(std::shared_ptr<const ConvexHull> hull);
+  static Shape triangle_mesh(std::shared_ptr<const TriangleMesh> mesh);
+  static Shape compound_of(std::shared_ptr<const CompoundShape> compound);
 
   // Bounded shapes can be dynamic; a plane is infinite and only ever static.
   bool is_bounded() const { return type != ShapeType::plane; }

@@ -1,6 +1,10 @@
 #include "engine/continuous_collision.hpp"
 
 #include <algorithm>
+#include <limits>
+
+#include "collision/compound_shape.hpp"
+#include "collision/convex_hull.hpp"
 
 #include "collision/ccd/conservative_advancement.hpp"
 
@@ -14,8 +18,25 @@ Real thickness_of(const Shape& shape) {
       return shape.radius;
     case ShapeType::box:
       return shape.half_extents.minCoeff();
+    case ShapeType::cylinder:
+      return std::min(shape.radius, shape.half_length);
+    case ShapeType::hull: {
+      // The centre of mass is inside: its distance to the nearest face plane.
+      Real inner = std::numeric_limits<Real>::infinity();
+      for (const HullFace& f : shape.hull->faces())
+        inner = std::min(inner, f.offset);
+      return inner;
+    }
+    case ShapeType::compound: {
+      // The thinnest part: a body is swept as soon as any part could pass through something.
+      Real thinnest = std::numeric_limits<Real>::infinity();
+      for (const CompoundPart& part : shape.compound->parts())
+        thinnest = std::min(thinnest, thickness_of(part.shape));
+      return thinnest;
+    }
     case ShapeType::plane:
-      break;
+    case ShapeType::mesh:
+      break;  // static only: never swept
   }
   return 0;
 }

@@ -75,6 +75,15 @@ void World::set_state(const State& state) {
   rebuild_broad_phase();
 }
 
+void World::teleport(int body, const Vec3& position, const Quat& orientation) {
+  BodyState& b = state_.bodies[std::size_t(body)];
+  b.position = position;
+  b.orientation = orientation.normalized();
+  std::erase_if(state_.contacts,
+                [body](const CachedManifold& m) { return m.body_a == body || m.body_b == body; });
+  rebuild_broad_phase();
+}
+
 void World::rebuild_broad_phase() {
   broad_phase_ = make_broad_phase(broad_phase_type_);
   for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {

@@ -32,6 +32,12 @@ class World {
   void set_state(const State& state);
   void reset() { set_state(initial_state(*scene_)); }
 
+  // Moves one body to a new pose at once, keeping its velocities (a teleport, not motion). The
+  // warm-start cache of every pair the body is in is dropped: last step's impulses belong to
+  // contacts that no longer exist (seed 4.5.3; pitfall 7). reset() and set_state() bring their
+  // own cache (empty for reset), so they need no such step.
+  void teleport(int body, const Vec3& position, const Quat& orientation);
+
   // Advances by scene().world.dt, in scene().world.substeps equal substeps.
   void step();
 

@@ -31,6 +31,10 @@
 #include <vector>
 
 #include "collision/broad_phase_factory.hpp"
+#include "collision/compound_shape.hpp"
+#include "collision/triangle_mesh.hpp"
+#include "scenes/obj_reader.hpp"
+#include "scenes/query_file.hpp"
 
 namespace tumble {
 
@@ -164,9 +168,14 @@ constexpr std::array<std::string_view, 3> kCapsuleKeys{"type", "radius", "half_l
 constexpr std::array<std::string_view, 1> kPlaneKeys{"type"};
 constexpr std::array<std::string_view, 3> kCylinderKeys{"type", "radius", "half_length"};
 constexpr std::array<std::string_view, 3> kHullKeys{"type", "points", "file"};
+constexpr std::array<std::string_view, 4> kMeshKeys{"type", "vertices", "triangles", "file"};
+constexpr std::array<std::string_view, 2> kCompoundKeys{"type", "parts"};
+constexpr std::array<std::string_view, 3> kPartKeys{"shape", "position", "orientation"};
+constexpr IntSpec kVertexIndex{"a vertex index", "0 to the number of vertices - 1", 0,
+                               std::int64_t(1) << 31};
 
 // Names design.md reserves for later; they get "not implemented yet" rather than "unknown".
-constexpr std::array<std::string_view, 3> kPlannedShapes{"mesh", "sdf", "compound"};
+constexpr std::array<std::string_view, 1> kPlannedShapes{"sdf"};
 
 // ---------------------------------------------------------------------------------------------
 // The document tree. yaml-cpp's parser reports events and the tree is built here instead of with
@@ -523,9 +532,23 @@ class Loader {
   void load_bodies(const Fields& top, Scene& scene) const;
   BodyDesc load_body(const Node& node, const YAML::Mark& mark, std::size_t i,
                      const MaterialIndex& materials, std::optional<YAML::Mark>& name_mark) const;
-  Shape load_shape(const Entry& e, const std::string& path) const;
-  Shape load_hull(const Fields& f, const std::string& path) const;
+  // `centre_of_mass` receives where the shape's centre of mass lies in the frame it was given in
+  // (hulls and compounds are re-centred there); zero for every other shape.
+  Shape load_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass = nullptr) const;
+  Shape load_hull(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;
+  Shape load_mesh(const Fields& f, const std::string& path) const;
+  Shape load_compound(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;
+  Quat read_orientation(const Entry& e, const std::string& path) const;
   Camera load_camera(const Entry& e) const;
+
+ public:
+  // `tumble query` files (scenes/query_file.hpp), parsed with the same shape reader.
+  std::vector<ShapeQuery> load_queries(std::string_view text);
+
+ private:
+  ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
+  void load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
+                         Transform& pose) const;
 
   std::string source_;
 };
@@ -862,14 +885,16 @@ void Loader::load_materials(const Entry* e, std::vector<Material>& materials) co
   }
 }
 
-Shape Loader::load_shape(const Entry& e, const std::string& path) const {
+Shape Loader::load_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass) const {
+  if (centre_of_mass != nullptr)
+    *centre_of_mass = Vec3::Zero();
   const Fields f = read_map(e.value, e.mark(), path,
                             "a map describing a shape, such as {type: sphere, radius: 0.5}", false);
   const Entry* type = f.find("type");
   if (type == nullptr) {
     fail(f.mark, child(path, "type"),
          "missing required field 'type'; expected one of: sphere, box, capsule, plane, cylinder, "
-         "hull");
+         "hull, mesh, compound");
   }
   const std::string t = read_word(*type, child(path, "type"), "a shape type");
   const auto require = [&](std::string_view key, std::string_view what) -> const Entry& {
@@ -911,23 +936,32 @@ Shape Loader::load_shape(const Entry& e, const std::string& path) const {
   }
   if (t == "hull") {
     check_known(f, kHullKeys);
-    return load_hull(f, path);
+    return load_hull(f, path, centre_of_mass);
+  }
+  if (t == "mesh") {
+    check_known(f, kMeshKeys);
+    return load_mesh(f, path);
+  }
+  if (t == "compound") {
+    check_known(f, kCompoundKeys);
+    return load_compound(f, path, centre_of_mass);
   }
   if (contains(kPlannedShapes, t)) {
     fail(type->mark(), child(path, "type"),
          "shape type '" + t +
-             "' is not implemented yet; available: sphere, box, capsule, plane, cylinder, hull");
+             "' is not implemented yet; available: sphere, box, capsule, plane, cylinder, hull, "
+             "mesh, compound");
   }
-  fail(
-      type->mark(), child(path, "type"),
-      "expected one of: sphere, box, capsule, plane, cylinder, hull, got " + describe(type->value));
+  fail(type->mark(), child(path, "type"),
+       "expected one of: sphere, box, capsule, plane, cylinder, hull, mesh, compound, got " +
+           describe(type->value));
 }
 
 // A convex hull from `points: [[x, y, z], ...]` or `file: X.obj` (only the OBJ's "v x y z" vertex
 // lines are read, by the minimal parser below; faces are ignored since the hull is rebuilt by
 // Qhull). The path is relative to the scene file's directory. Degenerate points (fewer than 4,
 // flat, needle, coincident) are refused with Qhull-free messages from ConvexHull.
-Shape Loader::load_hull(const Fields& f, const std::string& path) const {
+Shape Loader::load_hull(const Fields& f, const std::string& path, Vec3* centre_of_mass) const {
   const Entry* points_entry = f.find("points");
   const Entry* file_entry = f.find("file");
   if ((points_entry == nullptr) == (file_entry == nullptr)) {
@@ -972,9 +1006,161 @@ Shape Loader::load_hull(const Fields& f, const std::string& path) const {
     }
   }
   try {
-    return Shape::convex_hull(std::make_shared<const ConvexHull>(ConvexHull::from_points(points)));
+    auto hull = std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
+    if (centre_of_mass != nullptr)
+      *centre_of_mass = hull->centre_of_mass_offset();
+    return Shape::convex_hull(std::move(hull));
   } catch (const DegenerateHullError& e) {
     fail(where.mark(), field, e.what());
+  }
+}
+
+Quat Loader::read_orientation(const Entry& x, const std::string& path) const {
+  const Eigen::Matrix<Real, 4, 1> q = read_vector<4>(x, path, "[w, x, y, z]", "", kQuatComponent);
+  if (!(std::abs(q.norm() - 1) <= kQuatTolerance)) {
+    fail(x.mark(), path,
+         "expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), got norm " +
+             fmt(q.norm()));
+  }
+  return Quat(q[0], q[1], q[2], q[3]).normalized();
+}
+
+// A static triangle mesh: inline `vertices` and `triangles`, or an OBJ `file` (read by
+// obj_reader.hpp, relative to the scene file's folder).
+Shape Loader::load_mesh(const Fields& f, const std::string& path) const {
+  const Entry* file = f.find("file");
+  const Entry* vertices = f.find("vertices");
+  const Entry* triangles = f.find("triangles");
+  std::vector<Vec3> points;
+  std::vector<TriangleMesh::Triangle> faces;
+  const Entry* blame = nullptr;  // where a MeshError points
+  if (file != nullptr) {
+    for (const Entry* x : {vertices, triangles}) {
+      if (x != nullptr) {
+        fail(x->key_mark, child(path, x->key),
+             "give either 'file' or 'vertices' and 'triangles', not both (file is on line " +
+                 std::to_string(file->key_mark.line + 1) + ")");
+      }
+    }
+    const std::string name = read_name(*file, child(path, "file"), "an OBJ file name");
+    std::filesystem::path obj(name);
+    if (obj.is_relative())
+      obj = std::filesystem::path(source_).parent_path() / obj;
+    try {
+      ObjMesh m = read_obj_file(obj);
+      points = std::move(m.vertices);
+      faces = std::move(m.triangles);
+    } catch (const ObjError& error) {
+      fail(file->mark(), child(path, "file"), error.what());
+    }
+    blame = file;
+  } else {
+    if (vertices == nullptr || triangles == nullptr) {
+      fail(f.mark, child(path, vertices == nullptr ? "vertices" : "triangles"),
+           "a mesh needs 'vertices' ([[x, y, z], ...] in metres) and 'triangles' ([[i, j, k], "
+           "...], 0-based, counter-clockwise seen from the front), or 'file' (an OBJ file)");
+    }
+    const std::string vpath = child(path, "vertices");
+    const std::string tpath = child(path, "triangles");
+    if (!vertices->value.is_sequence() || vertices->value.size() < 3) {
+      fail(vertices->mark(), vpath,
+           "expected a list of at least 3 vertices [x, y, z], got " + describe(vertices->value));
+    }
+    if (!triangles->value.is_sequence() || triangles->value.size() < 1) {
+      fail(triangles->mark(), tpath,
+           "expected a list of at least 1 triangle [i, j, k], got " + describe(triangles->value));
+    }
+    for (std::size_t i = 0; i < vertices->value.items.size(); ++i) {
+      const Node& item = *vertices->value.items[i];
+      const Entry entry{"", mark_or(item, vertices->mark()), item};
+      points.push_back(read_vector<3>(entry, index(vpath, i), "[x, y, z]", "metres", kCoordinate));
+    }
+    for (std::size_t i = 0; i < triangles->value.items.size(); ++i) {
+      const Node& item = *triangles->value.items[i];
+      const std::string ipath = index(tpath, i);
+      const YAML::Mark mark = mark_or(item, triangles->mark());
+      if (!item.is_sequence() || item.size() != 3) {
+        fail(mark, ipath,
+             "expected a triangle [i, j, k] of 3 vertex indices, got " + describe(item));
+      }
+      TriangleMesh::Triangle t{};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Node& v = *item.items[k];
+        const Entry entry{"", mark_or(v, mark), v};
+        const std::int64_t value = read_int(entry, index(ipath, k), kVertexIndex);
+        if (value >= std::int64_t(points.size())) {
+          fail(entry.mark(), index(ipath, k),
+               "vertex index " + std::to_string(value) + " is out of range: the mesh has " +
+                   std::to_string(points.size()) + " vertices (indices 0 to " +
+                   std::to_string(points.size() - 1) + ")");
+        }
+        t[k] = std::int32_t(value);
+      }
+      faces.push_back(t);
+    }
+    blame = triangles;
+  }
+  try {
+    return Shape::triangle_mesh(std::make_shared<const TriangleMesh>(
+        TriangleMesh::build(std::move(points), std::move(faces))));
+  } catch (const MeshError& error) {
+    fail(blame->mark(), child(path, blame->key), error.what());
+  }
+}
+
+// A compound: parts [{shape, position, orientation}], each a bounded convex shape.
+Shape Loader::load_compound(const Fields& f, const std::string& path, Vec3* centre_of_mass) const {
+  const Entry* parts = f.find("parts");
+  const std::string ppath = child(path, "parts");
+  if (parts == nullptr) {
+    fail(f.mark, ppath,
+         "missing required field 'parts' (a list of {shape, position, orientation})");
+  }
+  if (!parts->value.is_sequence() || parts->value.size() < 1 ||
+      parts->value.size() > std::size_t(CompoundShape::kMaxParts)) {
+    fail(parts->mark(), ppath,
+         "expected a list of 1 to " + std::to_string(CompoundShape::kMaxParts) +
+             " parts {shape, position, orientation}, got " + describe(parts->value));
+  }
+  std::vector<CompoundPart> list;
+  for (std::size_t i = 0; i < parts->value.items.size(); ++i) {
+    const Node& item = *parts->value.items[i];
+    const std::string at = index(ppath, i);
+    const Fields pf = read_map(item, mark_or(item, parts->mark()), at,
+                               "a part {shape, position, orientation}", false);
+    check_known(pf, kPartKeys);
+    const Entry* shape = pf.find("shape");
+    if (shape == nullptr) {
+      fail(pf.mark, child(at, "shape"), "missing required field 'shape'");
+    }
+    CompoundPart part;
+    Vec3 part_centre = Vec3::Zero();
+    part.shape = load_shape(*shape, child(at, "shape"), &part_centre);
+    if (!part.shape.is_bounded() || part.shape.type == ShapeType::mesh ||
+        part.shape.type == ShapeType::compound) {
+      fail(shape->mark(), child(at, "shape"),
+           "a compound part must be a sphere, box, capsule, cylinder or hull, got " +
+               std::string(shape_type_name(part.shape.type)));
+    }
+    if (const Entry* x = pf.find("position")) {
+      part.pose.translation =
+          read_vector<3>(*x, child(at, "position"), "[x, y, z]", "metres", kCoordinate);
+    }
+    if (const Entry* x = pf.find("orientation")) {
+      part.pose.rotation = read_orientation(*x, child(at, "orientation"));
+    }
+    part.pose.translation += part.pose.rotation * part_centre;  // a hull part stays put
+    list.push_back(part);
+  }
+  try {
+    Vec3 com = Vec3::Zero();
+    Shape s = Shape::compound_of(
+        std::make_shared<const CompoundShape>(CompoundShape::build(std::move(list), &com)));
+    if (centre_of_mass != nullptr)
+      *centre_of_mass = com;
+    return s;
+  } catch (const CompoundError& error) {
+    fail(parts->mark(), ppath, error.what());
   }
 }
 
@@ -1000,7 +1186,8 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
     fail(f.mark, at("shape"),
          "missing required field 'shape', such as {type: sphere, radius: 0.5}");
   }
-  b.shape = load_shape(*shape, at("shape"));
+  Vec3 centre_of_mass = Vec3::Zero();
+  b.shape = load_shape(*shape, at("shape"), &centre_of_mass);
 
   const Entry* is_static = f.find("static");
   if (is_static != nullptr) {
@@ -1013,6 +1200,13 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
     const YAML::Mark where = is_static != nullptr ? is_static->mark() : shape->mark();
     fail(where, at("static"),
          "a plane is infinite, so it has no finite mass and must be static; add 'static: true'");
+  }
+  if (b.shape.type == ShapeType::mesh && !b.is_static) {
+    const YAML::Mark where = is_static != nullptr ? is_static->mark() : shape->mark();
+    fail(where, at("static"),
+         "a triangle mesh is a surface without a solid inside for collision, so it must be "
+         "static; add 'static: true' (use a compound of boxes, spheres or capsules for a moving "
+         "body)");
   }
 
   if (const Entry* x = f.find("position")) {
@@ -1032,11 +1226,9 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
     b.orientation = Quat(q[0], q[1], q[2], q[3]);
     b.orientation.normalize();
   }
-  if (b.shape.type == ShapeType::hull) {
-    // The hull was re-centred on its centre of mass: move the body so its points stay where the
-    // scene put them.
-    b.position += b.orientation * b.shape.hull->centre_of_mass_offset();
-  }
+  // Hulls and compounds are re-centred at their centre of mass: move the body there so the
+  // shape stays where the scene put it.
+  b.position += b.orientation * centre_of_mass;
   const auto check_still = [&](const Entry& x, const Vec3& v, std::string_view what) {
     if (b.is_static && !v.isZero(0)) {
       fail(x.mark(), at(x.key),
@@ -1296,6 +1488,114 @@ Scene load_scene_file(const std::filesystem::path& path) {
     throw SceneError(source, 0, 0, "", std::string("cannot open scene file (") + e.what() + ")");
   }
   return load_scene_string(text, source);
+}
+
+}  // namespace tumble
+
+// ---------------------------------------------------------------------------------------------
+// `tumble query` files: self-contained, so other kinds of query (time of impact) add a kind
+// and their fields here without touching the scene format.
+namespace tumble {
+namespace {
+
+constexpr std::array<std::string_view, 1> kQueryTopKeys{"queries"};
+constexpr std::array<std::string_view, 5> kQueryKeys{"name", "kind", "margin", "a", "b"};
+constexpr std::array<std::string_view, 3> kPlacedShapeKeys{"shape", "position", "orientation"};
+constexpr RealSpec kQueryMargin{"a margin in metres", "0 to 1e6", 0, 1e6};
+
+}  // namespace
+
+void Loader::load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
+                               Transform& pose) const {
+  const Fields f =
+      read_map(e.value, e.mark(), path, "a placed shape {shape, position, orientation}", false);
+  check_known(f, kPlacedShapeKeys);
+  const Entry* s = f.find("shape");
+  if (s == nullptr) {
+    fail(f.mark, child(path, "shape"),
+         "missing required field 'shape', such as {type: sphere, radius: 0.5}");
+  }
+  Vec3 centre_of_mass = Vec3::Zero();
+  shape = load_shape(*s, child(path, "shape"), &centre_of_mass);
+  pose = Transform{};
+  if (const Entry* x = f.find("position")) {
+    pose.translation =
+        read_vector<3>(*x, child(path, "position"), "[x, y, z]", "metres", kCoordinate);
+  }
+  if (const Entry* x = f.find("orientation")) {
+    pose.rotation = read_orientation(*x, child(path, "orientation"));
+  }
+  pose.translation += pose.rotation * centre_of_mass;  // a hull or compound stays put
+}
+
+ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const {
+  const std::string path = index("queries", i);
+  const Fields f = read_map(node, mark, path, "a query {name, a, b}", false);
+  check_known(f, kQueryKeys);
+  ShapeQuery q;
+  q.name = "query" + std::to_string(i);
+  if (const Entry* x = f.find("name")) {
+    q.name = read_name(*x, child(path, "name"), "a query name");
+  }
+  if (const Entry* x = f.find("kind")) {
+    const std::string kind = read_word(*x, child(path, "kind"), "a query kind");
+    if (kind != "contact") {
+      fail(x->mark(), child(path, "kind"), "expected one of: contact, got '" + kind + "'");
+    }
+    q.kind = QueryKind::contact;
+  }
+  if (const Entry* x = f.find("margin")) {
+    q.margin = read_real(*x, child(path, "margin"), kQueryMargin);
+  }
+  for (const char* side : {"a", "b"}) {
+    const Entry* x = f.find(side);
+    if (x == nullptr) {
+      fail(f.mark, child(path, side),
+           std::string("missing required field '") + side +
+               "' (a placed shape {shape, position, orientation})");
+    }
+    if (side[0] == 'a') {
+      load_placed_shape(*x, child(path, side), q.a, q.pose_a);
+    } else {
+      load_placed_shape(*x, child(path, side), q.b, q.pose_b);
+    }
+  }
+  return q;
+}
+
+std::vector<ShapeQuery> Loader::load_queries(std::string_view text) {
+  DocumentBuilder doc;
+  const Node& root = parse(text, doc);
+  YAML::Mark start;
+  start.line = 0;
+  start.column = 0;
+  const Fields top =
+      read_map(root, mark_or(root, start), "", "a map with the field queries", false);
+  check_known(top, kQueryTopKeys);
+  const Entry* e = top.find("queries");
+  if (e == nullptr) {
+    fail(top.mark, "queries", "missing required field 'queries' (a list of at least one query)");
+  }
+  if (!e->value.is_sequence() || e->value.size() == 0) {
+    fail(e->mark(), "queries", "expected a non-empty list of queries, got " + describe(e->value));
+  }
+  std::vector<ShapeQuery> queries;
+  for (std::size_t i = 0; i < e->value.items.size(); ++i) {
+    const Node& node = *e->value.items[i];
+    queries.push_back(load_query(node, mark_or(node, e->mark()), i));
+  }
+  return queries;
+}
+
+std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name) {
+  Loader loader{std::string(source_name)};
+  return loader.load_queries(yaml);
+}
+
+std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  const std::string text = read_file(path, source);
+  return load_query_string(text, source);
 }
 
 }  // namespace tumble

@@ -1,5 +1,7 @@
-// Ray casts against every primitive shape (Ericson, Real-Time Collision Detection, 2005: 5.3.2
-// ray-sphere, 5.3.3 ray-box slabs, 5.3.7 ray-cylinder; a capsule is its side plus two spheres).
+// Ray casts against every shape (Ericson, Real-Time Collision Detection, 2005: 5.3.2
+// ray-sphere, 5.3.3 ray-box slabs, 5.3.7 ray-cylinder; a capsule is its side plus two spheres;
+// a hull by Cyrus-Beck clipping against its face planes; a mesh by Moller-Trumbore on the
+// triangles its BVH returns, front faces only; a compound by its nearest part).
 #pragma once
 
 #include "collision/shape.hpp"
@@ -18,7 +20,8 @@ struct RayHit {
 RayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta);
 
 // Signed distance of a world point to the shape's surface (negative inside) [m]; exact for the
-// primitives. The brute-force check of the ray casts and a helper for tests.
+// convex shapes, unsigned for a mesh (a surface), the nearest part's for a compound. The
+// brute-force check of the ray casts and a helper for tests.
 Real signed_distance(const Shape& shape, const Transform& pose, const Vec3& point);
 
 }  // namespace tumble

@@ -28,11 +28,6 @@
 
 namespace tumble::detail {
 
-int collide_unsupported(const Shape&, const Transform&, const Shape&, const Transform&, Real,
-                        Manifold&) {
-  return 0;
-}
-
 namespace {
 
 // A face becomes the reference only when its normal is within about 18 degrees of the contact

@@ -58,10 +58,14 @@ int capsule_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
                      const Transform& pose_b, Real margin, Manifold& out);
 int hull_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                Real margin, Manifold& out);
-// Placeholder for the table cells of triangle meshes and compound bodies, which the mesh work
-// fills in: no contact.
-int collide_unsupported(const Shape& a, const Transform& pose_a, const Shape& b,
-                        const Transform& pose_b, Real margin, Manifold& out);
+
+// mesh_pairs.cpp: a convex shape (sphere, box, capsule) against a static triangle mesh.
+int convex_mesh(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+                Real margin, Manifold& out);
+
+// compound_pairs.cpp: a compound against any shape, part by part.
+int compound_any(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+                 Real margin, Manifold& out);
 
 // ---------------------------------------------------------------------------------------------
 // Feature ids. Each shape numbers its own features so that a contact point keeps its id while
@@ -73,6 +77,11 @@ int collide_unsupported(const Shape& a, const Transform& pose_a, const Shape& b,
 //   box:     vertices 0..7, bit k set when the vertex has a positive coordinate k;
 //            edges 8..19, 8 + 4 * axis + two sign bits of the other two axes (lower axis first);
 //            faces 20..25, 20 + 2 * axis + (1 on the positive side)
+//   mesh:    0xffff for a point inside a triangle's face (any triangle: a point sliding across
+//            a flat mesh keeps its id); else 8 * triangle + region (1..3 edges, 4..6 corners),
+//            modulo 2^16 (unique up to 8191 triangles; beyond, the solver's nearest-point
+//            fallback matches points)
+//   compound: (part index << 8) | (the part's own feature & 0xff)
 namespace feature {
 
 inline constexpr std::uint16_t kSphere = 0;
@@ -104,6 +113,16 @@ constexpr std::uint16_t box_face(int axis, bool positive) {
 // The capsule feature at parameter t along its core segment (t = 0 at end 0, t = 1 at end 1).
 constexpr std::uint16_t capsule_feature_at(Real t) {
   return t <= 0 ? kCapsuleEnd0 : (t >= 1 ? kCapsuleEnd1 : kCapsuleSide);
+}
+
+inline constexpr std::uint16_t kMeshFace = 0xffff;
+
+constexpr std::uint16_t mesh_feature(int triangle, int region) {
+  return std::uint16_t((triangle * 8 + region) & 0xffff);
+}
+
+constexpr std::uint16_t compound_feature(int part, std::uint16_t part_feature) {
+  return std::uint16_t(((part & 0xff) << 8) | (part_feature & 0xff));
 }
 
 }  // namespace feature

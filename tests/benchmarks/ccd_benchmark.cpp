@@ -21,6 +21,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -272,6 +273,8 @@ void BM_HighSpeedBullet(benchmark::State& state) {
         case ShapeType::plane:
           shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
           break;
+        default:  // the high-speed scene uses only the shapes above
+          throw std::runtime_error("bench_ccd: shape type not in the high-speed scene");
       }
       shape->setMargin(0.001);
       btVector3 inertia(0, 0, 0);

@@ -1,7 +1,7 @@
 // External narrow-phase cases (shared/narrowphase-cases/cases.json: transcribed from the test
 // suites of libccd, FCL, Coal, Jolt and Bullet, with their expected depth, distance, normal and
 // witness points). Every case whose shapes are all sphere, box, capsule, halfspace, cylinder or
-// convex hull is run; the others (cone; triangle, which belongs to the mesh work) and queries
+// convex hull or triangle (as a one-triangle mesh) is run; the others (cone) and queries
 // that are not a contact query (time of impact) are skipped and counted.
 //
 // The file's conventions differ from ours: its normal points from A to B (ours from B to A), its
@@ -26,6 +26,7 @@
 
 #include "collision/convex_hull.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/triangle_mesh.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {
@@ -73,7 +74,16 @@ std::optional<PlacedShape> to_shape(const json& j) {
     const Vec3 offset = hull->centre_of_mass_offset();
     return PlacedShape{Shape::convex_hull(std::move(hull)), {offset, Quat::Identity()}};
   }
-  return std::nullopt;  // cone and triangle: not ours (triangles belong to the mesh work)
+  if (type == "triangle" && j.contains("vertices_body")) {
+    // A one-triangle mesh (vertices in the body frame; its normal follows their order).
+    std::vector<Vec3> v;
+    for (const json& p : j.at("vertices_body"))
+      v.push_back(to_vec(p));
+    return PlacedShape{Shape::triangle_mesh(std::make_shared<const TriangleMesh>(
+                           TriangleMesh::build(std::move(v), {{0, 1, 2}}))),
+                       {}};
+  }
+  return std::nullopt;  // cone and triangle-triangle: not supported
 }
 
 Quat to_quat(const json& j) {
@@ -296,6 +306,10 @@ std::optional<Query> resolve(const std::string& label, const json& q, std::strin
     query.pose_b.translation = to_vec(q.at("B_position"));
   if (q.contains("A_quat_wxyz"))
     query.pose_a.rotation = to_quat(q.at("A_quat_wxyz"));
+  if (q.contains("triangle_translation")) {
+    PlacedShape& triangle = query.a.shape.type == ShapeType::mesh ? query.a : query.b;
+    triangle.local.translation += to_vec(q.at("triangle_translation"));
+  }
   if (q.contains("halfspace_translation")) {
     PlacedShape& halfspace = query.a.shape.type == ShapeType::plane ? query.a : query.b;
     halfspace.local.translation += to_vec(q.at("halfspace_translation"));

@@ -379,6 +379,8 @@ void core_of(const Shape& shape, const Transform& pose, std::vector<Vec3>& core,
     case ShapeType::mesh:
     case ShapeType::compound:
       break;
+    default:  // cylinder, hull, mesh, compound: not part of this oracle
+      break;
   }
 }
 

@@ -1,0 +1,40 @@
+// Internal to the narrow phase: gathers the contacts of several sub-pairs (the triangles of a
+// mesh under a convex shape, the parts of a compound) into one manifold. The engine keeps one
+// manifold, with one normal, per body pair, so the sub-contacts are merged onto the normal of
+// the deepest one: each point keeps its position on A, its depth is measured along the common
+// normal (depth times the cosine between the normals), points whose normal is more than 60
+// degrees from it are left out, and the rest are reduced to four by manifold_reduction (deepest,
+// farthest, largest area). Exact duplicates (two coplanar triangles giving the same face contact
+// at their shared edge) are kept once.
+//
+// Fixed capacity and no allocation: when full, a deeper candidate replaces the shallowest.
+#pragma once
+
+#include <array>
+
+#include "collision/contact.hpp"
+
+namespace tumble::detail {
+
+class ContactCollector {
+ public:
+  static constexpr int kCapacity = 64;
+
+  // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint.
+  void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature);
+  bool empty() const { return count_ == 0; }
+  // Writes the merged manifold (at most 4 points with depth >= -margin) and returns its count.
+  int finish(Real margin, Manifold& out) const;
+
+ private:
+  struct Candidate {
+    Vec3 normal;
+    Vec3 point_on_a;
+    Real depth;
+    FeatureId feature;
+  };
+  std::array<Candidate, kCapacity> candidates_;
+  int count_ = 0;
+};
+
+}  // namespace tumble::detail

@@ -1,0 +1,57 @@
+#include "scenes/obj_reader.hpp"
+
+#define TINYOBJLOADER_IMPLEMENTATION
+#define TINYOBJLOADER_USE_DOUBLE
+#include <tiny_obj_loader.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace tumble {
+
+ObjMesh read_obj_string(const std::string& text, const std::string& name) {
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  // No material text: a mesh is geometry only, and no other file is opened behind the scene's back.
+  if (!reader.ParseFromString(text, "", config) || !reader.Valid()) {
+    std::string why = reader.Error();
+    while (!why.empty() && (why.back() == '\n' || why.back() == '\r'))
+      why.pop_back();
+    throw ObjError("cannot read OBJ file '" + name + "': " + (why.empty() ? "parse error" : why));
+  }
+  ObjMesh mesh;
+  const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
+    mesh.vertices.emplace_back(Real(v[i]), Real(v[i + 1]), Real(v[i + 2]));
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const auto& indices = shape.mesh.indices;
+    for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
+      TriangleMesh::Triangle t{};
+      for (int k = 0; k < 3; ++k) {
+        const int index = indices[i + std::size_t(k)].vertex_index;
+        if (index < 0 || std::size_t(index) >= mesh.vertices.size())
+          throw ObjError("cannot read OBJ file '" + name + "': face " + std::to_string(i / 3) +
+                         " uses vertex " + std::to_string(index + 1) + " but the file has " +
+                         std::to_string(mesh.vertices.size()) + " vertices");
+        t[k] = std::int32_t(index);
+      }
+      mesh.triangles.push_back(t);
+    }
+  }
+  if (mesh.triangles.empty())
+    throw ObjError("cannot read OBJ file '" + name + "': it has no faces ('f' lines)");
+  return mesh;
+}
+
+ObjMesh read_obj_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw ObjError("cannot open OBJ file '" + path.string() + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read_obj_string(text.str(), path.string());
+}
+
+}  // namespace tumble
