@@ -5,7 +5,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "collision/compound_shape.hpp"
+#include "collision/convex_hull.hpp"
 #include "collision/shape.hpp"
+#include "collision/triangle_mesh.hpp"
 
 #ifdef TUMBLE_HAVE_BULLET
 #include <btBulletDynamicsCommon.h>
@@ -47,7 +50,7 @@ namespace {
 // The settings that cannot match whatever the bridge does; the Bullet side is independent of
 // how it was built, so these are listed for every scene.
 [[maybe_unused]] void list_fixed_mismatches(const Scene& scene, const BulletSettings& s,
-                           std::vector<std::string>& out) {
+                                            std::vector<std::string>& out) {
   const WorldSettings& w = scene.world;
   out.push_back("position correction: tumble uses soft contacts (contact_hertz " +
                 std::to_string(w.contact_hertz) + " Hz, damping ratio " +
@@ -131,13 +134,25 @@ btScalar combined_restitution(const btCollisionObject* a, const btCollisionObjec
 
 }  // namespace
 
+namespace {
+
+// Owner of the Bullet shapes of one world. Triangle data of mesh shapes is declared before
+// `shapes` so that it outlives the btBvhTriangleMeshShapes that point into it; `shapes` holds
+// compound children too (btCompoundShape does not own them).
+struct BulletShapes {
+  std::vector<std::unique_ptr<btTriangleMesh>> triangle_meshes;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+};
+
+}  // namespace
+
 struct BulletWorld::Impl {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broad_phase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broad_phase, &solver, &configuration};
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  BulletShapes shapes;  // declared before the bodies, so it outlives them
   std::vector<std::unique_ptr<btRigidBody>> bodies;  // one per scene body, null if left out
   std::vector<BodyMass> masses;
   Vec3 gravity = Vec3::Zero();
@@ -151,6 +166,76 @@ struct BulletWorld::Impl {
     }
   }
 };
+
+namespace {
+
+btTransform bt(const Transform& t) {
+  const Quat& q = t.rotation;
+  return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(t.translation));
+}
+
+// Bullet's counterpart of a tumble shape in the body frame, owned by `m`; null for a shape type the
+// bridge does not know. Convex shapes get margin 0 so that Bullet's shape is exactly ours:
+// btBoxShape and btCylinderShape keep their outer size when the margin changes; a btConvexHullShape
+// with margin 0 is its points' hull.
+btCollisionShape* make_bullet_shape(const Shape& shape, BulletShapes& m) {
+  std::unique_ptr<btCollisionShape> out;
+  switch (shape.type) {
+    case ShapeType::sphere:
+      out = std::make_unique<btSphereShape>(shape.radius);
+      break;
+    case ShapeType::box:
+      out = std::make_unique<btBoxShape>(bt(shape.half_extents));
+      out->setMargin(0);
+      break;
+    case ShapeType::capsule:
+      out = std::make_unique<btCapsuleShapeZ>(shape.radius, 2 * shape.half_length);
+      break;
+    case ShapeType::plane:
+      out = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
+      break;
+    case ShapeType::cylinder:
+      out = std::make_unique<btCylinderShapeZ>(
+          btVector3(shape.radius, shape.radius, shape.half_length));
+      out->setMargin(0);
+      break;
+    case ShapeType::hull: {
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (const Vec3& v : shape.hull->vertices())
+        hull->addPoint(bt(v), false);
+      hull->recalcLocalAabb();
+      hull->setMargin(0);
+      out = std::move(hull);
+      break;
+    }
+    case ShapeType::compound: {
+      auto compound = std::make_unique<btCompoundShape>();
+      for (const CompoundPart& part : shape.compound->parts()) {
+        btCollisionShape* child = make_bullet_shape(part.shape, m);
+        if (child == nullptr)
+          return nullptr;
+        compound->addChildShape(bt(part.pose), child);
+      }
+      out = std::move(compound);
+      break;
+    }
+    case ShapeType::mesh: {
+      auto triangles = std::make_unique<btTriangleMesh>(true, false);  // 32-bit indices
+      const TriangleMesh& mesh = *shape.mesh;
+      for (int t = 0; t < mesh.triangle_count(); ++t)
+        triangles->addTriangle(bt(mesh.corner(t, 0)), bt(mesh.corner(t, 1)), bt(mesh.corner(t, 2)));
+      out = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
+      m.triangle_meshes.push_back(std::move(triangles));
+      break;
+    }
+  }
+  if (!out)
+    return nullptr;
+  m.shapes.push_back(std::move(out));
+  return m.shapes.back().get();
+}
+
+}  // namespace
 
 BulletWorld::BulletWorld(const Scene& scene, const BulletSettings& settings)
     : impl_(std::make_unique<Impl>()), dt_(settings.dt) {
@@ -172,34 +257,21 @@ BulletWorld::BulletWorld(const Scene& scene, const BulletSettings& settings)
 
   for (const BodyDesc& d : scene.bodies) {
     m.masses.push_back(BodyMass::make(d.mass, d.inertia, d.is_static));
-    std::unique_ptr<btCollisionShape> shape;
-    switch (d.shape.type) {
-      case ShapeType::sphere:
-        shape = std::make_unique<btSphereShape>(d.shape.radius);
-        break;
-      case ShapeType::box:
-        shape = std::make_unique<btBoxShape>(bt(d.shape.half_extents));
-        shape->setMargin(0);  // btBoxShape keeps the outer half extents when the margin changes
-        break;
-      case ShapeType::capsule:
-        shape = std::make_unique<btCapsuleShapeZ>(d.shape.radius, 2 * d.shape.half_length);
-        break;
-      case ShapeType::plane:
-        shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
-        break;
-      default:
-        // Shapes added to tumble later need a case here; until then the body is left out.
-        mismatches_.push_back("body '" + d.name + "': shape type '" +
-                              std::string(shape_type_name(d.shape.type)) +
-                              "' has no Bullet counterpart in the bridge; left out of Bullet");
-        m.bodies.push_back(nullptr);
-        continue;
+    btCollisionShape* shape = make_bullet_shape(d.shape, m.shapes);
+    if (shape == nullptr) {
+      // Shapes added to tumble later need a case in make_bullet_shape; until then the body is
+      // left out.
+      mismatches_.push_back("body '" + d.name + "': shape type '" +
+                            std::string(shape_type_name(d.shape.type)) +
+                            "' has no Bullet counterpart in the bridge; left out of Bullet");
+      m.bodies.push_back(nullptr);
+      continue;
     }
     const Real mass = d.is_static ? Real(0) : d.mass;
     const btVector3 inertia = d.is_static
                                   ? btVector3(0, 0, 0)
                                   : btVector3(d.inertia(0, 0), d.inertia(1, 1), d.inertia(2, 2));
-    btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape.get(), inertia);
+    btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape, inertia);
     const Quat& q = d.orientation;
     ci.m_startWorldTransform =
         btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(d.position));
@@ -216,7 +288,6 @@ BulletWorld::BulletWorld(const Scene& scene, const BulletSettings& settings)
     }
     body->setActivationState(DISABLE_DEACTIVATION);
     m.world.addRigidBody(body.get());
-    m.shapes.push_back(std::move(shape));
     m.bodies.push_back(std::move(body));
   }
 }

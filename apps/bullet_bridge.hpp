@@ -6,11 +6,14 @@
 //
 // What is matched, and how (docs/oracle.md has the full table):
 //   shapes     sphere btSphereShape, box btBoxShape, capsule btCapsuleShapeZ (core along z, as
-//              ours), plane btStaticPlaneShape((0,0,1), 0) in the body frame.
+//              ours), plane btStaticPlaneShape((0,0,1), 0) in the body frame, cylinder
+//              btCylinderShapeZ((r, r, half_length)), hull btConvexHullShape of its vertices,
+//              compound btCompoundShape of the parts, static mesh btBvhTriangleMeshShape.
 //   margins    spheres and capsules: the radius is Bullet's margin (no choice). Boxes:
 //              setMargin(0), so Bullet's box is exactly ours; box-box goes through Bullet's exact
 //              btBoxBoxCollisionAlgorithm and box-plane through the support map, which need no
-//              margin. Listed as a mismatch because Bullet's GJK for box-capsule prefers one.
+//              margin; listed as a mismatch because Bullet's GJK for box-capsule prefers one.
+//              Cylinders and hulls: setMargin(0) too (both keep their outer size).
 //   mass       the scene's mass and the diagonal of its body-frame inertia (a non-diagonal
 //              inertia cannot be given to Bullet and is listed).
 //   materials  friction by the geometric mean and restitution by the maximum, tumble's rule,

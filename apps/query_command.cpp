@@ -1,18 +1,28 @@
-// Answers each query with the narrow phase's manifold: the deepest point gives the signed
-// distance and the witness points, computed with the query's margin (default 10 m) so that
-// apart shapes report their distance too. The status says where the answer came from
-// ("status_source": "narrow_phase"); convex pairs move to GJK/EPA when that lands (branch
-// `narrow`), and a new kind (time of impact) adds a case to answer_query.
-//
-// Statuses: "penetrating" (distance < 0), "touching" (distance 0), "separated" (distance > 0),
-// "beyond_margin" (no contact within the margin: distance null), "unsupported" (a pair the
-// narrow phase has no function for yet, or two static shapes such as mesh and mesh).
+// Answers each query (design.md):
+//   contact, convex pair (sphere, box, capsule, cylinder, hull on both sides): GJK
+//     (collision/gjk.hpp) in a pair-local frame (poses relative to a's position) gives the
+//     signed distance, the normal and the witness points; when the cores intersect, EPA
+//     (collision/epa.hpp) gives the depth. "status" is the GJK status name ("separated",
+//     "max_iterations", "degenerate") or, when GJK found the cores intersecting, the EPA status
+//     name ("converged", ...); "status_source" is "gjk" or "epa".
+//   contact, a pair with a plane, mesh or compound: the narrow phase's manifold, whose deepest
+//     point gives the distance and witnesses ("status_source": "manifold"; statuses
+//     "penetrating", "touching", "separated", "beyond_margin", "unsupported" for two static
+//     shapes such as mesh and mesh).
+//   Both list the manifold's "contacts" from collide() with the query's margin (default 10 m,
+//     so apart shapes are listed too), and "state" (penetrating / touching / separated) from the
+//     sign of the distance.
+//   toi: conservative advancement (collision/ccd/conservative_advancement.hpp) over the
+//     query's duration with each shape moving at constant velocity and angular velocity.
 #include "apps/query_command.hpp"
 
 #include <iostream>
 #include <sstream>
 
 #include "apps/number_format.hpp"
+#include "collision/ccd/conservative_advancement.hpp"
+#include "collision/epa.hpp"
+#include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
 
 namespace tumble::app {
@@ -43,10 +53,78 @@ void write_string(std::ostream& out, const std::string& s) {
   out << '"';
 }
 
-// Pairs the dispatch table answers today; the rest report "unsupported" instead of a silent
-// "beyond_margin".
-bool supported(ShapeType type) {
-  return type != ShapeType::cylinder && type != ShapeType::hull;
+void write_quaternion(std::ostream& out, const Quat& q) {  // w first, as in scene files
+  out << '[';
+  write_number(out, q.w());
+  out << ',';
+  write_number(out, q.x());
+  out << ',';
+  write_number(out, q.y());
+  out << ',';
+  write_number(out, q.z());
+  out << ']';
+}
+
+bool convex(ShapeType type) {
+  return type == ShapeType::sphere || type == ShapeType::box || type == ShapeType::capsule ||
+         type == ShapeType::cylinder || type == ShapeType::hull;
+}
+
+const char* state_of(Real distance) {
+  return distance < 0 ? "penetrating" : (distance > 0 ? "separated" : "touching");
+}
+
+void write_contacts(std::ostream& out, const Manifold& m, int count) {
+  out << ",\"contacts\":[";
+  for (int i = 0; i < count; ++i) {
+    const ContactPoint& p = m.points[i];
+    out << (i ? "," : "") << "{\"position\":";
+    write_vector(out, p.position);
+    out << ",\"depth\":";
+    write_number(out, p.depth);
+    out << ",\"feature\":[" << p.feature.a << ',' << p.feature.b << "]}";
+  }
+  out << ']';
+}
+
+// GJK, then EPA when the cores intersect, in the frame centred on a's position (distances far
+// from the origin keep their precision); points are moved back to the world.
+void write_convex_answer(std::ostream& out, const ShapeQuery& q) {
+  const Vec3 origin = q.pose_a.translation;
+  Transform local_a = q.pose_a;
+  local_a.translation = Vec3::Zero();
+  Transform local_b = q.pose_b;
+  local_b.translation -= origin;
+  const ConvexSupport a = ConvexSupport::of(q.a, local_a);
+  const ConvexSupport b = ConvexSupport::of(q.b, local_b);
+  const GjkResult g = gjk(a, b);
+  const char* status = gjk_status_name(g.status);
+  const char* source = "gjk";
+  Real distance = g.distance;
+  Vec3 normal = g.normal;
+  Vec3 point_a = g.point_a;
+  Vec3 point_b = g.point_b;
+  if (g.status == GjkStatus::intersecting) {
+    const EpaResult e = epa(a, b, g);
+    status = epa_status_name(e.status);
+    source = "epa";
+    distance = -e.depth;
+    normal = e.normal;
+    point_a = e.point_a;
+    point_b = e.point_b;
+  }
+  out << "\"status\":\"" << status << "\",\"status_source\":\"" << source << "\",\"state\":\""
+      << state_of(distance) << "\",\"distance\":";
+  write_number(out, distance);
+  out << ",\"normal\":";
+  write_vector(out, normal);
+  out << ",\"point_a\":";
+  write_vector(out, point_a + origin);
+  out << ",\"point_b\":";
+  write_vector(out, point_b + origin);
+  Manifold m;
+  const int count = collide(q.a, q.pose_a, q.b, q.pose_b, q.margin, m);
+  write_contacts(out, m, count);
 }
 
 bool both_static(ShapeType a, ShapeType b) {
@@ -59,20 +137,21 @@ std::string answer_contact(const ShapeQuery& q) {
   out << "{\"name\":";
   write_string(out, q.name);
   out << ",\"kind\":\"contact\",";
-  const auto compound_supported = [](const Shape& s) {
-    if (s.type != ShapeType::compound)
-      return supported(s.type);
-    return true;  // parts are checked when the compound is built
-  };
-  if (!compound_supported(q.a) || !compound_supported(q.b) || both_static(q.a.type, q.b.type)) {
-    out << "\"status\":\"unsupported\",\"status_source\":\"narrow_phase\",\"distance\":null,"
-           "\"normal\":null,\"point_a\":null,\"point_b\":null,\"contacts\":[]}";
+  if (convex(q.a.type) && convex(q.b.type)) {
+    write_convex_answer(out, q);
+    out << '}';
+    return out.str();
+  }
+  if (both_static(q.a.type, q.b.type)) {
+    out << "\"status\":\"unsupported\",\"status_source\":\"manifold\",\"state\":null,"
+           "\"distance\":null,\"normal\":null,\"point_a\":null,\"point_b\":null,\"contacts\":[]}";
     return out.str();
   }
   Manifold m;
   const int count = collide(q.a, q.pose_a, q.b, q.pose_b, q.margin, m);
   if (count == 0) {
-    out << "\"status\":\"beyond_margin\",\"status_source\":\"narrow_phase\",\"margin\":";
+    out << "\"status\":\"beyond_margin\",\"status_source\":\"manifold\",\"state\":null,"
+           "\"margin\":";
     write_number(out, q.margin);
     out << ",\"distance\":null,\"normal\":null,\"point_a\":null,\"point_b\":null,\"contacts\":[]}";
     return out.str();
@@ -83,8 +162,8 @@ std::string answer_contact(const ShapeQuery& q) {
       deepest = i;
   const ContactPoint& d = m.points[deepest];
   const Real distance = -d.depth;
-  const char* status = distance < 0 ? "penetrating" : (distance > 0 ? "separated" : "touching");
-  out << "\"status\":\"" << status << "\",\"status_source\":\"narrow_phase\",\"distance\":";
+  out << "\"status\":\"" << state_of(distance) << "\",\"status_source\":\"manifold\",\"state\":\""
+      << state_of(distance) << "\",\"distance\":";
   write_number(out, distance);
   out << ",\"normal\":";
   write_vector(out, m.normal);
@@ -92,16 +171,75 @@ std::string answer_contact(const ShapeQuery& q) {
   write_vector(out, d.point_on_a(m.normal));
   out << ",\"point_b\":";
   write_vector(out, d.point_on_b(m.normal));
-  out << ",\"contacts\":[";
-  for (int i = 0; i < count; ++i) {
-    const ContactPoint& p = m.points[i];
-    out << (i ? "," : "") << "{\"position\":";
-    write_vector(out, p.position);
-    out << ",\"depth\":";
-    write_number(out, p.depth);
-    out << ",\"feature\":[" << p.feature.a << ',' << p.feature.b << "]}";
+  write_contacts(out, m, count);
+  out << '}';
+  return out.str();
+}
+
+void write_pose(std::ostream& out, const Transform& pose) {
+  out << "{\"position\":";
+  write_vector(out, pose.translation);
+  out << ",\"orientation\":";
+  write_quaternion(out, pose.rotation);
+  out << '}';
+}
+
+// Conservative advancement over s in [0, 1] = [0, duration] s, in the frame centred on a's
+// starting position. The tolerance is tight (1 nm: the time error is about tolerance / closing
+// speed) because a query is answered once, not every step; the iteration cap is raised to match.
+std::string answer_toi(const ShapeQuery& q) {
+  std::ostringstream out;
+  out << "{\"name\":";
+  write_string(out, q.name);
+  out << ",\"kind\":\"toi\",";
+  if (both_static(q.a.type, q.b.type)) {
+    out << "\"status\":\"unsupported\",\"toi\":null,\"duration\":";
+    write_number(out, q.duration);
+    out << ",\"normal\":null,\"pose_a\":null,\"pose_b\":null}";
+    return out.str();
   }
-  out << "]}";
+  const Vec3 origin = q.pose_a.translation;
+  Transform start_a = q.pose_a;
+  start_a.translation = Vec3::Zero();
+  Transform start_b = q.pose_b;
+  start_b.translation -= origin;
+  const RigidMotion motion_a = RigidMotion::from_velocity(start_a, q.velocity_a * q.duration,
+                                                          q.angular_velocity_a * q.duration);
+  const RigidMotion motion_b = RigidMotion::from_velocity(start_b, q.velocity_b * q.duration,
+                                                          q.angular_velocity_b * q.duration);
+  ToiSettings settings;
+  settings.tolerance = Real(1e-9);
+  settings.max_iterations = 1000;
+  const ToiResult r = time_of_impact(q.a, motion_a, q.b, motion_b, settings);
+  out << "\"status\":\"" << toi_status_name(r.status) << "\",\"toi\":";
+  if (r.hit()) {
+    write_number(out, r.time_of_impact * q.duration);
+  } else {
+    out << "null";
+  }
+  out << ",\"duration\":";
+  write_number(out, q.duration);
+  if (r.status == ToiStatus::max_iterations) {
+    out << ",\"safe_until\":";  // no contact before this time (s)
+    write_number(out, r.time_of_impact * q.duration);
+  }
+  if (r.hit()) {
+    Transform at_a = motion_a.at(r.time_of_impact);
+    Transform at_b = motion_b.at(r.time_of_impact);
+    at_a.translation += origin;
+    at_b.translation += origin;
+    out << ",\"distance\":";
+    write_number(out, r.distance);
+    out << ",\"normal\":";
+    write_vector(out, r.normal);
+    out << ",\"pose_a\":";
+    write_pose(out, at_a);
+    out << ",\"pose_b\":";
+    write_pose(out, at_b);
+    out << '}';
+  } else {
+    out << ",\"normal\":null,\"pose_a\":null,\"pose_b\":null}";
+  }
   return out.str();
 }
 
@@ -111,6 +249,8 @@ std::string answer_query(const ShapeQuery& query) {
   switch (query.kind) {
     case QueryKind::contact:
       return answer_contact(query);
+    case QueryKind::toi:
+      return answer_toi(query);
   }
   return {};
 }

@@ -1,9 +1,12 @@
 // `tumble query FILE.yaml`: collision queries between pairs of shapes (design.md). Prints one
 // JSON object per query and line:
-//   {"name", "kind", "status", "status_source", "distance", "normal", "point_a", "point_b",
-//    "contacts": [{"position", "depth", "feature": [a, b]}]}
+//   contact: {"name", "kind", "status", "status_source", "state", "distance", "normal",
+//             "point_a", "point_b", "contacts": [{"position", "depth", "feature": [a, b]}]}
+//   toi:     {"name", "kind", "status", "toi", "duration", "distance", "normal", "pose_a",
+//             "pose_b"}
 // distance is signed (negative = penetration), the normal points from b to a, and point_a and
-// point_b are the witness points on a and b.
+// point_b are the witness points on a and b. Convex pairs are answered by GJK/EPA, the others
+// by the narrow phase's manifold (query_command.cpp says which status comes from where).
 #pragma once
 
 #include <filesystem>

@@ -1,5 +1,6 @@
 // The input of `tumble query` (design.md): a YAML file with a list of shape pairs,
-//   queries: [{name, kind, margin, a: {shape, position, orientation}, b: {...}}]
+//   queries: [{name, kind, margin, duration, a: {shape, position, orientation, velocity,
+//              angular_velocity}, b: {...}}]
 // Shapes are written exactly as in scene files (the same parser reads them). Errors are the
 // loader's SceneError, with file, line, column and field.
 #pragma once
@@ -13,9 +14,9 @@
 
 namespace tumble {
 
-// What a query asks. Only `contact` exists today; `toi` (time of impact) is reserved for
-// continuous collision and is added next to it in scene_loader.cpp's kQueryKinds.
-enum class QueryKind { contact };
+// What a query asks: `contact` (distance, witnesses, manifold at the given poses) or `toi`
+// (time of impact of the two shapes moving with constant velocities over `duration`).
+enum class QueryKind { contact, toi };
 
 struct ShapeQuery {
   std::string name;
@@ -25,6 +26,12 @@ struct ShapeQuery {
   Transform pose_a;
   Shape b;
   Transform pose_b;
+  // kind toi only: constant velocities (world frame) and the time span searched.
+  Vec3 velocity_a = Vec3::Zero();          // m/s
+  Vec3 angular_velocity_a = Vec3::Zero();  // rad/s
+  Vec3 velocity_b = Vec3::Zero();
+  Vec3 angular_velocity_b = Vec3::Zero();
+  Real duration = 1;  // s
 };
 
 std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path);

@@ -547,8 +547,8 @@ class Loader {
 
  private:
   ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
-  void load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
-                         Transform& pose) const;
+  void load_placed_shape(const Entry& e, const std::string& path, Shape& shape, Transform& pose,
+                         Vec3* velocity, Vec3* angular_velocity) const;
 
   std::string source_;
 };
@@ -1499,17 +1499,35 @@ namespace tumble {
 namespace {
 
 constexpr std::array<std::string_view, 1> kQueryTopKeys{"queries"};
-constexpr std::array<std::string_view, 5> kQueryKeys{"name", "kind", "margin", "a", "b"};
+constexpr std::array<std::string_view, 6> kQueryKeys{"name",     "kind", "margin",
+                                                     "duration", "a",    "b"};
 constexpr std::array<std::string_view, 3> kPlacedShapeKeys{"shape", "position", "orientation"};
+constexpr std::array<std::string_view, 5> kMovingShapeKeys{"shape", "position", "orientation",
+                                                           "velocity", "angular_velocity"};
 constexpr RealSpec kQueryMargin{"a margin in metres", "0 to 1e6", 0, 1e6};
+constexpr RealSpec kQueryDuration{"a duration in seconds", "greater than 0, at most 1e6", 0, 1e6,
+                                  true};
 
 }  // namespace
 
+// velocity and angular_velocity are read only when the query moves its shapes (kind toi); for
+// the other kinds they are unknown fields.
 void Loader::load_placed_shape(const Entry& e, const std::string& path, Shape& shape,
-                               Transform& pose) const {
+                               Transform& pose, Vec3* velocity, Vec3* angular_velocity) const {
   const Fields f =
       read_map(e.value, e.mark(), path, "a placed shape {shape, position, orientation}", false);
-  check_known(f, kPlacedShapeKeys);
+  if (velocity != nullptr) {
+    check_known(f, kMovingShapeKeys);
+    if (const Entry* x = f.find("velocity")) {
+      *velocity = read_vector<3>(*x, child(path, "velocity"), "[x, y, z]", "m/s", kVelocity);
+    }
+    if (const Entry* x = f.find("angular_velocity")) {
+      *angular_velocity = read_vector<3>(*x, child(path, "angular_velocity"), "[x, y, z]", "rad/s",
+                                         kAngularVelocity);
+    }
+  } else {
+    check_known(f, kPlacedShapeKeys);
+  }
   const Entry* s = f.find("shape");
   if (s == nullptr) {
     fail(f.mark, child(path, "shape"),
@@ -1539,13 +1557,23 @@ ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::siz
   }
   if (const Entry* x = f.find("kind")) {
     const std::string kind = read_word(*x, child(path, "kind"), "a query kind");
-    if (kind != "contact") {
-      fail(x->mark(), child(path, "kind"), "expected one of: contact, got '" + kind + "'");
+    if (kind == "contact") {
+      q.kind = QueryKind::contact;
+    } else if (kind == "toi") {
+      q.kind = QueryKind::toi;
+    } else {
+      fail(x->mark(), child(path, "kind"), "expected one of: contact, toi, got '" + kind + "'");
     }
-    q.kind = QueryKind::contact;
   }
   if (const Entry* x = f.find("margin")) {
     q.margin = read_real(*x, child(path, "margin"), kQueryMargin);
+  }
+  const bool moving = q.kind == QueryKind::toi;
+  if (const Entry* x = f.find("duration")) {
+    if (!moving) {
+      fail(x->mark(), child(path, "duration"), "'duration' is only read by queries of kind: toi");
+    }
+    q.duration = read_real(*x, child(path, "duration"), kQueryDuration);
   }
   for (const char* side : {"a", "b"}) {
     const Entry* x = f.find(side);
@@ -1555,9 +1583,11 @@ ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::siz
                "' (a placed shape {shape, position, orientation})");
     }
     if (side[0] == 'a') {
-      load_placed_shape(*x, child(path, side), q.a, q.pose_a);
+      load_placed_shape(*x, child(path, side), q.a, q.pose_a, moving ? &q.velocity_a : nullptr,
+                        moving ? &q.angular_velocity_a : nullptr);
     } else {
-      load_placed_shape(*x, child(path, side), q.b, q.pose_b);
+      load_placed_shape(*x, child(path, side), q.b, q.pose_b, moving ? &q.velocity_b : nullptr,
+                        moving ? &q.angular_velocity_b : nullptr);
     }
   }
   return q;

@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "collision/math.hpp"
 
 namespace tumble::test {
 namespace {
@@ -126,6 +130,165 @@ TEST(QueryCommand, BadFileNamesFileLineAndField) {
   EXPECT_EQ(k.exit_code, 1);
   EXPECT_NE(k.text.find("field 'queries[0].kind': expected one of: contact"), std::string::npos)
       << k.text;
+}
+
+std::string yaml_vector(const Vec3& v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << '[' << v.x() << ", " << v.y() << ", " << v.z() << ']';
+  return out.str();
+}
+
+std::string yaml_quaternion(const Quat& q) {
+  std::ostringstream out;
+  out.precision(17);
+  out << '[' << q.w() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ']';
+  return out.str();
+}
+
+Vec3 vec_of(const nlohmann::json& j) {
+  return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+}
+
+TEST(QueryCommand, SphereDistanceByGjkEqualsClosedForm) {
+  const Vec3 ca(0.3, -1.2, 2.5), cb(-1.1, 0.4, 0.9);
+  const Real ra = 0.7, rb = 0.45;
+  const fs::path file = write_query_file(
+      "spheres.yaml",
+      "queries:\n  - a: {shape: {type: sphere, radius: 0.7}, position: " + yaml_vector(ca) +
+          "}\n    b: {shape: {type: sphere, radius: 0.45}, position: " + yaml_vector(cb) + "}\n");
+  const Output r = run_query(file);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const auto q = lines_of(r.text);
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0]["status_source"], "gjk");
+  EXPECT_EQ(q[0]["status"], "separated");
+  EXPECT_EQ(q[0]["state"], "separated");
+  const Real expected = (ca - cb).norm() - ra - rb;
+  EXPECT_NEAR(q[0]["distance"].get<double>(), expected, 1e-12);
+  const Vec3 n = (ca - cb).normalized();
+  EXPECT_NEAR((vec_of(q[0]["normal"]) - n).norm(), 0, 1e-12);
+  EXPECT_NEAR((vec_of(q[0]["point_a"]) - (ca - ra * n)).norm(), 0, 1e-12);
+  EXPECT_NEAR((vec_of(q[0]["point_b"]) - (cb + rb * n)).norm(), 0, 1e-12);
+  EXPECT_FALSE(q[0]["contacts"].empty());  // the manifold is listed within the margin
+}
+
+// Penetration depth of two boxes: the minimum overlap over the 15 separating-axis candidates
+// (3 face normals of each box, 9 edge-edge cross products), computed here independently.
+Real box_box_sat_depth(const Vec3& ha, const Transform& pa, const Vec3& hb, const Transform& pb) {
+  const Mat3 ra = pa.rotation.toRotationMatrix();
+  const Mat3 rb = pb.rotation.toRotationMatrix();
+  std::vector<Vec3> axes;
+  for (int i = 0; i < 3; ++i) {
+    axes.push_back(ra.col(i));
+    axes.push_back(rb.col(i));
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 c = ra.col(i).cross(rb.col(j));
+      if (c.norm() > 1e-9)
+        axes.push_back(c.normalized());
+    }
+  const Vec3 d = pb.translation - pa.translation;
+  Real depth = std::numeric_limits<Real>::infinity();
+  for (const Vec3& l : axes) {
+    Real reach = 0;
+    for (int i = 0; i < 3; ++i)
+      reach += ha[i] * std::abs(ra.col(i).dot(l)) + hb[i] * std::abs(rb.col(i).dot(l));
+    depth = std::min(depth, reach - std::abs(d.dot(l)));
+  }
+  return depth;
+}
+
+TEST(QueryCommand, BoxBoxDepthByEpaEqualsSatMinimum) {
+  const Vec3 ha(0.6, 0.4, 0.3), hb(0.5, 0.35, 0.25);
+  Transform pa, pb;
+  pa.translation = Vec3(0.1, -0.2, 0.3);
+  pa.rotation = Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
+  pb.translation = Vec3(0.75, 0.15, 0.55);
+  pb.rotation = Quat(Eigen::AngleAxisd(1.1, Vec3(-2, 1, 0.5).normalized()));
+  const Real expected = box_box_sat_depth(ha, pa, hb, pb);
+  ASSERT_GT(expected, 0.01);  // the poses overlap by a clear margin
+  const fs::path file = write_query_file(
+      "boxes.yaml", "queries:\n  - a: {shape: {type: box, half_extents: " + yaml_vector(ha) +
+                        "}, position: " + yaml_vector(pa.translation) +
+                        ", orientation: " + yaml_quaternion(pa.rotation) +
+                        "}\n    b: {shape: {type: box, half_extents: " + yaml_vector(hb) +
+                        "}, position: " + yaml_vector(pb.translation) +
+                        ", orientation: " + yaml_quaternion(pb.rotation) + "}\n");
+  const Output r = run_query(file);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const auto q = lines_of(r.text);
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0]["status_source"], "epa");
+  EXPECT_EQ(q[0]["status"], "converged");
+  EXPECT_EQ(q[0]["state"], "penetrating");
+  EXPECT_NEAR(-q[0]["distance"].get<double>(), expected, 1e-9);
+  // Witnesses: point_a - point_b = distance * normal (translating a by depth along the normal
+  // separates the boxes).
+  const Vec3 n = vec_of(q[0]["normal"]);
+  EXPECT_NEAR(n.norm(), 1, 1e-12);
+  EXPECT_NEAR(
+      (vec_of(q[0]["point_a"]) - vec_of(q[0]["point_b"]) - q[0]["distance"].get<double>() * n)
+          .norm(),
+      0, 1e-9);
+  EXPECT_FALSE(q[0]["contacts"].empty());
+}
+
+TEST(QueryCommand, TimeOfImpactOfTwoSpheresMatchesClosedForm) {
+  // a (radius 0.5) moves at 2 m/s along x past b (radius 0.25) offset by 0.2 in y: contact when
+  // |d + v t| = 0.75 with d = a - b = (-3, -0.2, 0), v = (2, 0, 0).
+  const fs::path file = write_query_file("toi.yaml", R"(queries:
+  - name: glancing
+    kind: toi
+    duration: 2
+    a: {shape: {type: sphere, radius: 0.5}, position: [10, 5, 1], velocity: [2, 0, 0]}
+    b: {shape: {type: sphere, radius: 0.25}, position: [13, 5.2, 1]}
+  - name: miss
+    kind: toi
+    a: {shape: {type: sphere, radius: 0.5}, position: [0, 0, 0], velocity: [2, 0, 0]}
+    b: {shape: {type: sphere, radius: 0.25}, position: [3, 1, 0], angular_velocity: [0, 0, 3]}
+)");
+  const Output r = run_query(file);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const auto q = lines_of(r.text);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0]["kind"], "toi");
+  EXPECT_EQ(q[0]["status"], "hit");
+  const Real expected = (3 - std::sqrt(0.75 * 0.75 - 0.2 * 0.2)) / 2;
+  EXPECT_NEAR(q[0]["toi"].get<double>(), expected, 1e-9);
+  const Vec3 a_at(10 + 2 * expected, 5, 1), b_at(13, 5.2, 1);
+  EXPECT_NEAR((vec_of(q[0]["normal"]) - (a_at - b_at).normalized()).norm(), 0, 1e-6);
+  EXPECT_NEAR((vec_of(q[0]["pose_a"]["position"]) - a_at).norm(), 0, 1e-8);
+  EXPECT_NEAR((vec_of(q[0]["pose_b"]["position"]) - b_at).norm(), 0, 1e-12);
+  // Closest approach in the second query is 1 m > 0.75 m: no impact within the default 1 s.
+  EXPECT_EQ(q[1]["status"], "separated");
+  EXPECT_TRUE(q[1]["toi"].is_null());
+}
+
+TEST(QueryCommand, UnknownKindAndMisplacedMotionAreNamed) {
+  const fs::path kind = write_query_file("badkind.yaml", R"(queries:
+  - a: {shape: {type: sphere, radius: 1}}
+    b: {shape: {type: sphere, radius: 1}}
+  - kind: impact
+    a: {shape: {type: sphere, radius: 1}}
+    b: {shape: {type: sphere, radius: 1}}
+)");
+  const Output k = run_query(kind);
+  EXPECT_EQ(k.exit_code, 1);
+  EXPECT_NE(k.text.find("badkind.yaml:4:"), std::string::npos) << k.text;
+  EXPECT_NE(k.text.find("field 'queries[1].kind': expected one of: contact, toi, got 'impact'"),
+            std::string::npos)
+      << k.text;
+  // A velocity only means something for kind toi.
+  const fs::path still = write_query_file("still.yaml", R"(queries:
+  - a: {shape: {type: sphere, radius: 1}, velocity: [1, 0, 0]}
+    b: {shape: {type: sphere, radius: 1}}
+)");
+  const Output s = run_query(still);
+  EXPECT_EQ(s.exit_code, 1);
+  EXPECT_NE(s.text.find("still.yaml:2:"), std::string::npos) << s.text;
+  EXPECT_NE(s.text.find("velocity"), std::string::npos) << s.text;
 }
 
 }  // namespace
