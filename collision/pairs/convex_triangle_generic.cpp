@@ -5,8 +5,8 @@
 // rules of region_use, whether that normal is trusted or replaced by the face normal; a normal
 // pointing behind the one-sided triangle is replaced too. With the face normal the points are
 // the shape's vertices (hull) or cap-rim samples (cylinder) within the margin of the triangle's
-// plane that project inside the triangle, plus the witness point, so a hull resting on a mesh
-// gets a supporting polygon, not one point.
+// plane that project inside the triangle, the shape's deepest point (support map) first, so a
+// hull resting on a mesh gets a supporting polygon, not one point, and the depth is exact.
 #include <cmath>
 #include <numbers>
 
@@ -42,20 +42,34 @@ void add_face_points(const Shape& shape, const TriangleView& tri, Real margin,
     if (d >= -margin && projects_inside(p, tri))
       contact.add(p, d, feature, TriangleRegion::face, margin);
   };
+  // The shape's deepest point first: the points are capped at kMaxPoints, and a tilted
+  // cylinder's deepest rim point is in general none of the samples, so without it the depth
+  // would be short by up to r (1 - cos(pi / kRimSamples)).
+  const Vec3 deepest = support(shape, -tri.normal);
   if (shape.type == ShapeType::hull) {
     const ConvexHull& hull = *shape.hull;
     const int count = static_cast<int>(hull.vertices().size());
-    for (int i = 0; i < count && contact.count < TriangleContact::kMaxPoints; ++i)
-      consider(hull.vertex(i), std::uint16_t(i));
+    int deepest_index = 0;
+    for (int i = 1; i < count; ++i) {
+      if (depth_below(hull.vertex(i), tri) > depth_below(hull.vertex(deepest_index), tri))
+        deepest_index = i;
+    }
+    consider(hull.vertex(deepest_index), std::uint16_t(deepest_index));
+    for (int i = 0; i < count && contact.count < TriangleContact::kMaxPoints; ++i) {
+      if (i != deepest_index)
+        consider(hull.vertex(i), std::uint16_t(i));
+    }
     return;
   }
-  // Cylinder: its two cap rims, sampled.
+  // Cylinder: the deepest rim point, then its two cap rims, sampled.
+  consider(deepest, std::uint16_t(2 * kRimSamples));
   for (int cap = 0; cap < 2; ++cap) {
     const Real z = cap == 0 ? -shape.half_length : shape.half_length;
     for (int s = 0; s < kRimSamples; ++s) {
       const Real angle = 2 * std::numbers::pi_v<Real> * s / kRimSamples;
-      consider({shape.radius * std::cos(angle), shape.radius * std::sin(angle), z},
-               std::uint16_t(cap * kRimSamples + s));
+      const Vec3 p(shape.radius * std::cos(angle), shape.radius * std::sin(angle), z);
+      if (p != deepest)
+        consider(p, std::uint16_t(cap * kRimSamples + s));
     }
   }
 }

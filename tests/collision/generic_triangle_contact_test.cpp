@@ -114,8 +114,10 @@ TEST(GenericTriangleContact, HullRestingOnAFaceGetsASupportPolygon) {
     fewest = std::min(fewest, m.count);
     EXPECT_GE(m.count, 3);
     EXPECT_LE((m.normal - Vec3::UnitZ()).norm(), 1e-9);
+    // The face's corners are 1 mm deep; other vertices may lie within the margin above it.
+    EXPECT_NEAR(m.points[deepest_point(m)].depth, 1e-3, 1e-9);
     for (int i = 0; i < m.count; ++i)
-      EXPECT_NEAR(m.points[i].depth, 1e-3, 1e-9);
+      EXPECT_LE(m.points[i].depth, 1e-3 + 1e-9);
   }
   std::printf("[ stats    ] hull resting on a face: fewest contact points %d\n", fewest);
 }
