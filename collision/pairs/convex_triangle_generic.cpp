@@ -101,12 +101,31 @@ int generic_triangle(const Shape& shape, const TriangleView& tri, Real margin,
     return 0;
   // An edge or corner normal is kept only when it leans to the triangle's front; the witness of
   // a face contact has the face normal anyway (up to rounding), and is given it exactly.
-  if (use == RegionUse::keep && region != TriangleRegion::face && normal.dot(tri.normal) > 0) {
-    contact.normal = normal;
-    contact.add(on_shape, depth, std::uint16_t(0), region, margin);
-    return contact.count;
+  if (use == RegionUse::keep && region != TriangleRegion::face) {
+    // Apart, and reached from behind a boundary or convex feature: the shape is beside or
+    // behind the one-sided triangle, so no contact from it, as for the sphere (a neighbour, if
+    // any, gives the contact). Overlapping, such a normal is replaced by the face's below.
+    if (normal.dot(tri.normal) <= 0 && g.status != GjkStatus::intersecting)
+      return 0;
+    if (normal.dot(tri.normal) > 0) {
+      contact.normal = normal;
+      contact.add(on_shape, depth, std::uint16_t(0), region, margin);
+      return contact.count;
+    }
   }
   contact.normal = tri.normal;
+  // A face witness carries the exact distance or depth along the face normal: the vertices over
+  // the triangle alone can miss it when the shape overhangs an edge.
+  // Overlapping with an edge or corner witness, the vertices over the triangle can all be in
+  // front of its plane while the shape crosses it: the shape's lowest point under the plane
+  // gives a depth that pushes it wholly in front (never less than the true depth).
+  if (region == TriangleRegion::face) {
+    contact.add(on_shape, depth, std::uint16_t(0xfe), TriangleRegion::face, margin);
+  } else if (g.status == GjkStatus::intersecting) {
+    const Vec3 lowest = support(shape, -tri.normal);
+    contact.add(lowest, depth_below(lowest, tri), std::uint16_t(0xfd), TriangleRegion::face,
+                margin);
+  }
   add_face_points(shape, tri, margin, contact);
   if (contact.count == 0) {
     // No vertex or rim sample over the triangle: the deepest point of the shape below the plane.

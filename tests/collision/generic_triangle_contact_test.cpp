@@ -196,6 +196,8 @@ void truth_bracket(const Shape& s, const Transform& pose, const std::array<Vec3,
 struct TriangleStats {
   int separated = 0;
   int penetrating = 0;
+  int omitted_behind = 0;
+  int pushed_to_front = 0;
   Real worst_error = 0;
 };
 
@@ -224,8 +226,16 @@ void run_single_triangle(ShapeType type, int cases, std::uint64_t seed, Triangle
     SCOPED_TRACE("case " + std::to_string(c) + " " + std::string(shape_type_name(type)) +
                  " truth in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
     const Real tolerance = 1e-9 * (reach + 3);
+    // One-sided triangle: a shape reaching behind the triangle's plane may be reported with no
+    // contact (apart, touched from behind an edge) or pushed out along the face normal, as deep
+    // as its lowest point under the plane, however short the way out around an edge is.
+    const Real below_plane = n.dot(tri[0]) + support_value(shape, pose, -n);
+    const bool reaches_behind = below_plane > 0;
     if (count == 0) {
-      EXPECT_GT(high, margin - tolerance);
+      if (!reaches_behind)
+        EXPECT_GT(high, margin - tolerance);
+      else
+        ++stats.omitted_behind;
       continue;
     }
     ASSERT_NEAR(m.normal.norm(), 1, 1e-12);
@@ -234,12 +244,17 @@ void run_single_triangle(ShapeType type, int cases, std::uint64_t seed, Triangle
       ++stats.separated;
     else if (high < 0)
       ++stats.penetrating;
-    // The reported distance lies in the truth's bracket.
-    EXPECT_GE(signed_distance, low - tolerance);
+    // Never farther than the truth's bracket (never less penetration than there is).
     EXPECT_LE(signed_distance, high + tolerance);
-    const Real error = signed_distance < low    ? low - signed_distance
-                       : signed_distance > high ? signed_distance - high
-                                                : 0;
+    Real error = std::max(Real(0), signed_distance - high);
+    if (signed_distance < low - tolerance) {
+      // Deeper than the truth: only the one-sided face push, no deeper than the lowest point.
+      ++stats.pushed_to_front;
+      EXPECT_TRUE(reaches_behind && high < 0);
+      EXPECT_LE(-signed_distance, below_plane + tolerance);
+    } else {
+      error = std::max(error, low - signed_distance);
+    }
     stats.worst_error = std::max(stats.worst_error, error);
   }
 }
@@ -247,8 +262,11 @@ void run_single_triangle(ShapeType type, int cases, std::uint64_t seed, Triangle
 TEST(GenericTriangleContact, HullAgainstOneTriangleMatchesBruteForce) {
   TriangleStats stats;
   run_single_triangle(ShapeType::hull, scaled(2000), 505, stats);
-  std::printf("[ stats    ] hull vs triangle: %d separated, %d penetrating, worst error %.3g m\n",
-              stats.separated, stats.penetrating, stats.worst_error);
+  std::printf(
+      "[ stats    ] hull vs triangle: %d separated, %d penetrating, worst error %.3g m; "
+      "%d omitted and %d pushed to the front (reaching behind the plane)\n",
+      stats.separated, stats.penetrating, stats.worst_error, stats.omitted_behind,
+      stats.pushed_to_front);
   EXPECT_GT(stats.separated, scaled(2000) / 10);
   EXPECT_GT(stats.penetrating, scaled(2000) / 10);
 }
@@ -257,8 +275,10 @@ TEST(GenericTriangleContact, CylinderAgainstOneTriangleLiesInThePrismBracket) {
   TriangleStats stats;
   run_single_triangle(ShapeType::cylinder, scaled(2000), 506, stats);
   std::printf(
-      "[ stats    ] cylinder vs triangle: %d separated, %d penetrating, worst error %.3g m\n",
-      stats.separated, stats.penetrating, stats.worst_error);
+      "[ stats    ] cylinder vs triangle: %d separated, %d penetrating, worst error %.3g m; %d "
+      "omitted and %d pushed to the front (reaching behind the plane)\n",
+      stats.separated, stats.penetrating, stats.worst_error, stats.omitted_behind,
+      stats.pushed_to_front);
   EXPECT_GT(stats.separated, scaled(2000) / 10);
   EXPECT_GT(stats.penetrating, scaled(2000) / 10);
 }
