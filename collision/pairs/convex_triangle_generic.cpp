@@ -3,7 +3,8 @@
 // the shape and the triangle's three corners (collision/gjk.hpp), or from EPA when they overlap
 // (collision/epa.hpp). Where on the triangle the witness lies decides, with the internal-edge
 // rules of region_use, whether that normal is trusted or replaced by the face normal; a normal
-// pointing behind the one-sided triangle is replaced too. With the face normal the points are
+// pointing behind the one-sided triangle gives no contact when apart and is replaced when the
+// shapes overlap. With the face normal the points are
 // the shape's vertices (hull) or cap-rim samples (cylinder) within the margin of the triangle's
 // plane that project inside the triangle, the shape's deepest point (support map) first, so a
 // hull resting on a mesh gets a supporting polygon, not one point, and the depth is exact.
