@@ -8,6 +8,9 @@
 #include <string>
 #include <utility>
 
+#include "collision/compound_shape.hpp"
+#include "collision/triangle_mesh.hpp"
+
 namespace tumble::render {
 namespace {
 
@@ -173,13 +176,44 @@ Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& det
   return mesh;
 }
 
+namespace {
+
+// A triangle mesh as it is: its own triangles, flat shaded (each corner carries the face normal).
+Mesh tessellate_triangle_mesh(const TriangleMesh& source) {
+  Mesh mesh;
+  for (int t = 0; t < source.triangle_count(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      mesh.indices.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
+      mesh.positions.push_back(source.corner(t, k));
+      mesh.normals.push_back(source.normal(t));
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
 Mesh tessellate(const Shape& shape, const TessellationDetail& detail) {
-  // One case per type with a dedicated mesh; every other bounded type (cylinder, hull, ...) is
-  // drawn from its support map until it gets its own case here. The support map of a
-  // non-convex shape (triangle mesh, compound) gives its convex hull: such a type needs its own
-  // case (its triangles, or its children's meshes) or a throw of std::invalid_argument saying
-  // it cannot be rendered yet.
+  // One case per type with a dedicated mesh; every other bounded convex type (cylinder, hull)
+  // is drawn from its support map. The support map of a non-convex shape gives its convex hull,
+  // so meshes and compounds have their own cases: their triangles, their parts' meshes.
   switch (shape.type) {
+    case ShapeType::mesh:
+      return tessellate_triangle_mesh(*shape.mesh);
+    case ShapeType::compound: {
+      Mesh mesh;
+      for (const CompoundPart& part : shape.compound->parts()) {
+        const Mesh piece = tessellate(part.shape, detail);
+        const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+        for (std::size_t i = 0; i < piece.positions.size(); ++i) {
+          mesh.positions.push_back(part.pose.apply(piece.positions[i]));
+          mesh.normals.push_back(part.pose.rotate(piece.normals[i]));
+        }
+        for (const std::uint32_t index : piece.indices)
+          mesh.indices.push_back(base + index);
+      }
+      return mesh;
+    }
     case ShapeType::sphere:
       return tessellate_sphere(shape.radius, detail);
     case ShapeType::box:

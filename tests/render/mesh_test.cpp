@@ -3,11 +3,15 @@
 // shape that has a dedicated mesh, so it is known to work before a new shape relies on it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <random>
 #include <stdexcept>
 
+#include "collision/compound_shape.hpp"
+#include "collision/triangle_mesh.hpp"
 #include "renders/mesh.hpp"
 
 namespace tumble::render {
@@ -137,6 +141,52 @@ TEST(Mesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
       // a flat facet of the shape: either way no point of the shape lies beyond the vertex.
       const Vec3& n = m.normals[k];
       EXPECT_NEAR(support(s, n).dot(n), m.positions[k].dot(n), 1e-9 * (1 + size.max())) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tumble::render
+
+namespace tumble::render {
+namespace {
+
+// A dumbbell (two boxes apart on x): its mesh holds both boxes, so it encloses their volume,
+// not the volume of their convex hull (the generic support-map path would give the hull).
+TEST(Mesh, CompoundIsItsPartsNotTheirHull) {
+  std::vector<CompoundPart> parts(2);
+  parts[0].shape = Shape::box(Vec3(0.1, 0.1, 0.1));
+  parts[0].pose.translation = Vec3(-1, 0, 0);
+  parts[1].shape = Shape::box(Vec3(0.1, 0.1, 0.1));
+  parts[1].pose.translation = Vec3(1, 0, 0);
+  const Shape s = Shape::compound_of(
+      std::make_shared<const CompoundShape>(CompoundShape::build(std::move(parts))));
+  const Mesh m = tessellate(s, {});
+  EXPECT_EQ(m.triangle_count(), 24);
+  EXPECT_NEAR(enclosed_volume(m), 2 * 0.008, 1e-12);
+  Real x_min = 0, x_max = 0;
+  for (const Vec3& p : m.positions) {
+    x_min = std::min(x_min, p.x());
+    x_max = std::max(x_max, p.x());
+  }
+  EXPECT_NEAR(x_min, -1.1, 1e-12);
+  EXPECT_NEAR(x_max, 1.1, 1e-12);
+}
+
+// A triangle mesh is drawn with its own triangles, each with its face normal.
+TEST(Mesh, TriangleMeshKeepsItsTriangles) {
+  // A non-convex "V" of two triangles: its convex hull would be a tetrahedron-like solid.
+  std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 1}, {1, 1, 1}, {-1, 0, 1}, {-1, 1, 1}, {0, 1, 0}};
+  std::vector<TriangleMesh::Triangle> t = {{0, 1, 2}, {0, 2, 5}, {0, 3, 4}, {0, 4, 5}};
+  const TriangleMesh source = TriangleMesh::build(v, t);
+  const Shape s = Shape::triangle_mesh(std::make_shared<const TriangleMesh>(source));
+  const Mesh m = tessellate(s, {});
+  ASSERT_EQ(m.triangle_count(), source.triangle_count());
+  for (int tri = 0; tri < m.triangle_count(); ++tri) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = m.indices[std::size_t(3 * tri + k)];
+      EXPECT_EQ(m.positions[i], source.corner(tri, k));
+      EXPECT_NEAR((m.normals[i] - source.normal(tri)).norm(), 0, 1e-15);
     }
   }
 }
