@@ -5,30 +5,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "dynamics/contact_rows.hpp"
+
 namespace tumble {
-namespace {
-
-Real effective_mass(Real inv_mass_sum, const Mat3& inv_i_a, const Mat3& inv_i_b, const Vec3& r_a,
-                    const Vec3& r_b, const Vec3& axis) {
-  const Vec3 ra_x = r_a.cross(axis);
-  const Vec3 rb_x = r_b.cross(axis);
-  const Real k = inv_mass_sum + ra_x.dot(inv_i_a * ra_x) + rb_x.dot(inv_i_b * rb_x);
-  return k > 0 ? Real(1) / k : Real(0);
-}
-
-// The cached manifold of pair (a, b) in `previous` (sorted by pair), or null.
-const CachedManifold* find_cached(std::span<const CachedManifold> previous, std::int32_t a,
-                                  std::int32_t b) {
-  const auto it = std::lower_bound(previous.begin(), previous.end(), std::pair{a, b},
-                                   [](const CachedManifold& m, const std::pair<int, int>& key) {
-                                     return std::pair{m.body_a, m.body_b} < key;
-                                   });
-  if (it == previous.end() || it->body_a != a || it->body_b != b)
-    return nullptr;
-  return &*it;
-}
-
-}  // namespace
+using detail::find_cached;
 
 void ContactSolver::prepare(std::span<const PairContact> contacts,
                             std::span<const CachedManifold> previous,
@@ -85,23 +65,9 @@ void ContactSolver::prepare(std::span<const PairContact> contacts,
       // Both anchors start at the contact point, so the separation is -depth plus how far the
       // anchors have moved apart along the normal.
       p.base_separation = -cp.depth;
-      p.rn_a = p.r_a.cross(normal);
-      p.rn_b = p.r_b.cross(normal);
-      p.rt1_a = p.r_a.cross(t1);
-      p.rt1_b = p.r_b.cross(t1);
-      p.rt2_a = p.r_a.cross(t2);
-      p.rt2_b = p.r_b.cross(t2);
-      p.in_a = ia * p.rn_a;
-      p.in_b = ib * p.rn_b;
-      p.it1_a = ia * p.rt1_a;
-      p.it1_b = ib * p.rt1_b;
-      p.it2_a = ia * p.rt2_a;
-      p.it2_b = ib * p.rt2_b;
+      detail::fill_contact_rows(p, normal, t1, t2, ia, ib, inv_mass_sum);
       p.inv_mass_a = inverse_mass_[a];
       p.inv_mass_b = inverse_mass_[b];
-      p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
-      p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
-      p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
       p.friction = pc.friction;
       p.restitution = pc.restitution;
       points_.push_back(p);

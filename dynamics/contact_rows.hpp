@@ -1,0 +1,59 @@
+// Pieces the impulse and the penalty solver share (internal): effective masses, the lookup of
+// last step's manifold for a pair, and the Jacobian rows of a contact point.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <utility>
+
+#include "collision/math.hpp"
+#include "dynamics/contact_cache.hpp"
+
+namespace tumble::detail {
+
+// 1 / (J M^-1 J^T) for a unit impulse along `axis` applied at r_a on A and -axis at r_b on B.
+inline Real effective_mass(Real inv_mass_sum, const Mat3& inv_i_a, const Mat3& inv_i_b,
+                           const Vec3& r_a, const Vec3& r_b, const Vec3& axis) {
+  const Vec3 ra_x = r_a.cross(axis);
+  const Vec3 rb_x = r_b.cross(axis);
+  const Real k = inv_mass_sum + ra_x.dot(inv_i_a * ra_x) + rb_x.dot(inv_i_b * rb_x);
+  return k > 0 ? Real(1) / k : Real(0);
+}
+
+// The cached manifold of pair (a, b) in `previous` (sorted by pair), or null.
+inline const CachedManifold* find_cached(std::span<const CachedManifold> previous, std::int32_t a,
+                                         std::int32_t b) {
+  const auto it = std::lower_bound(previous.begin(), previous.end(), std::pair{a, b},
+                                   [](const CachedManifold& m, const std::pair<int, int>& key) {
+                                     return std::pair{m.body_a, m.body_b} < key;
+                                   });
+  if (it == previous.end() || it->body_a != a || it->body_b != b)
+    return nullptr;
+  return &*it;
+}
+
+// The rows of a contact point along the normal and the two tangents, precomputed once per step
+// so that applying an impulse is a few vector adds: r x d and I^-1 (r x d) on both bodies, and
+// the effective masses. `Point` is either solver's point record (the same field names).
+template <class Point>
+void fill_contact_rows(Point& p, const Vec3& normal, const Vec3& t1, const Vec3& t2, const Mat3& ia,
+                       const Mat3& ib, Real inv_mass_sum) {
+  p.rn_a = p.r_a.cross(normal);
+  p.rn_b = p.r_b.cross(normal);
+  p.rt1_a = p.r_a.cross(t1);
+  p.rt1_b = p.r_b.cross(t1);
+  p.rt2_a = p.r_a.cross(t2);
+  p.rt2_b = p.r_b.cross(t2);
+  p.in_a = ia * p.rn_a;
+  p.in_b = ib * p.rn_b;
+  p.it1_a = ia * p.rt1_a;
+  p.it1_b = ib * p.rt1_b;
+  p.it2_a = ia * p.rt2_a;
+  p.it2_b = ib * p.rt2_b;
+  p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
+  p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
+  p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
+}
+
+}  // namespace tumble::detail
