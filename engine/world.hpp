@@ -10,8 +10,8 @@
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
 #include "dynamics/penalty_solver.hpp"
-#include "engine/islands.hpp"
 #include "engine/continuous_collision.hpp"
+#include "engine/islands.hpp"
 #include "engine/scene.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
@@ -98,8 +98,8 @@ class World {
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
   Islands islands_;
-  std::vector<std::uint8_t> island_awake_;  // per root body
-  std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
+  std::vector<std::uint8_t> island_awake_;           // per root body
+  std::vector<Real> island_slow_time_;               // per root body: the least of its bodies'
   std::unique_ptr<ContinuousCollision> continuous_;  // null when the scene never sweeps
 
   StepStatistics current_;
