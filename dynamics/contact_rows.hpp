@@ -6,9 +6,12 @@
 #include <cstdint>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "collision/math.hpp"
 #include "dynamics/contact_cache.hpp"
+#include "dynamics/contact_solver.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace tumble::detail {
 
@@ -54,6 +57,50 @@ void fill_contact_rows(Point& p, const Vec3& normal, const Vec3& t1, const Vec3&
   p.normal_mass = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, normal);
   p.tangent_mass1 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t1);
   p.tangent_mass2 = effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, t2);
+}
+
+// Each body's inverse mass and world-frame inverse inertia for this step.
+inline void world_inverse_masses(std::span<const BodyState> bodies,
+                                 std::span<const BodyMass> masses, std::vector<Real>& inverse_mass,
+                                 std::vector<Mat3>& inverse_inertia_world) {
+  const std::size_t n = bodies.size();
+  inverse_mass.resize(n);
+  inverse_inertia_world.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inverse_mass[i] = masses[i].inverse_mass;
+    const Mat3 r = bodies[i].orientation.toRotationMatrix();
+    inverse_inertia_world[i] = r * masses[i].inverse_inertia * r.transpose();
+  }
+}
+
+// The part of a solver's point record both solvers fill the same way from manifold point `cp`
+// of pair `pc`: bodies, feature, frame, lever arms (world and body-local), the separation at
+// the start of the step (both anchors start at the contact point, so the separation is -depth
+// plus how far the anchors move apart along the normal), rows, inverse masses and friction.
+template <class Point>
+void fill_contact_point(Point& p, const PairContact& pc, const ContactPoint& cp, const Vec3& t1,
+                        const Vec3& t2, std::span<const BodyState> bodies,
+                        const std::vector<Real>& inverse_mass,
+                        const std::vector<Mat3>& inverse_inertia_world) {
+  const std::int32_t a = pc.body_a;
+  const std::int32_t b = pc.body_b;
+  const Vec3& normal = pc.manifold.normal;
+  p.a = a;
+  p.b = b;
+  p.feature = cp.feature.key();
+  p.normal = normal;
+  p.tangent1 = t1;
+  p.tangent2 = t2;
+  p.r_a = cp.position - bodies[a].position;
+  p.r_b = cp.position - bodies[b].position;
+  p.local_a = bodies[a].orientation.conjugate() * p.r_a;
+  p.local_b = bodies[b].orientation.conjugate() * p.r_b;
+  p.base_separation = -cp.depth;
+  fill_contact_rows(p, normal, t1, t2, inverse_inertia_world[a], inverse_inertia_world[b],
+                    inverse_mass[a] + inverse_mass[b]);
+  p.inv_mass_a = inverse_mass[a];
+  p.inv_mass_b = inverse_mass[b];
+  p.friction = pc.friction;
 }
 
 }  // namespace tumble::detail

@@ -18,14 +18,7 @@ void PenaltySolver::prepare(std::span<const PairContact> contacts,
   points_.clear();
   pairs_.clear();
   pair_bodies_.clear();
-  const std::size_t n = bodies.size();
-  inverse_mass_.resize(n);
-  inverse_inertia_world_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    inverse_mass_[i] = masses[i].inverse_mass;
-    const Mat3 r = bodies[i].orientation.toRotationMatrix();
-    inverse_inertia_world_[i] = r * masses[i].inverse_inertia * r.transpose();
-  }
+  detail::world_inverse_masses(bodies, masses, inverse_mass_, inverse_inertia_world_);
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const PairContact& pc = contacts[c];
     const std::int32_t a = pc.body_a;
@@ -34,27 +27,10 @@ void PenaltySolver::prepare(std::span<const PairContact> contacts,
     const Vec3 normal = pc.manifold.normal;
     Vec3 t1, t2;
     orthonormal_basis(normal, t1, t2);
-    const Real inv_mass_sum = inverse_mass_[a] + inverse_mass_[b];
-    const Mat3& ia = inverse_inertia_world_[a];
-    const Mat3& ib = inverse_inertia_world_[b];
     for (int k = 0; k < pc.manifold.count; ++k) {
       const ContactPoint& cp = pc.manifold.points[k];
       Point p;
-      p.a = a;
-      p.b = b;
-      p.feature = cp.feature.key();
-      p.normal = normal;
-      p.tangent1 = t1;
-      p.tangent2 = t2;
-      p.r_a = cp.position - bodies[a].position;
-      p.r_b = cp.position - bodies[b].position;
-      p.local_a = bodies[a].orientation.conjugate() * p.r_a;
-      p.local_b = bodies[b].orientation.conjugate() * p.r_b;
-      p.base_separation = -cp.depth;
-      detail::fill_contact_rows(p, normal, t1, t2, ia, ib, inv_mass_sum);
-      p.inv_mass_a = inverse_mass_[a];
-      p.inv_mass_b = inverse_mass_[b];
-      p.friction = pc.friction;
+      detail::fill_contact_point(p, pc, cp, t1, t2, bodies, inverse_mass_, inverse_inertia_world_);
       // A manifold of several points shares the pair's spring: each point carries its share,
       // so a box face resting on a floor is as stiff as k, whatever the manifold reduction
       // kept.
