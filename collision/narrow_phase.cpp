@@ -8,7 +8,10 @@
 // first shape of its own order (the sphere in sphere-box, the bounded shape against a plane), and
 // the contact positions are moved back at the end. Bodies 1e6 m from the origin then keep the
 // precision they have at the origin, a plane's translation can be anywhere on the plane, and a
-// swapped call runs exactly the same arithmetic as the unswapped one.
+// swapped call runs exactly the same arithmetic as the unswapped one. The one exception is
+// sphere-sphere: its function is symmetric in A and B by construction and runs on the world
+// translations as they are (their difference is as precise as in a pair frame), which keeps it
+// cheap enough to batch (collision/sphere_batch.hpp gives the same bits over arrays).
 //
 // Two shapes of the same type have no natural order, so `ordered` picks one with a fixed rule
 // (runs_first below) that depends on the shapes and poses but not on the argument order.
@@ -112,12 +115,13 @@ constexpr PairFunction xvc = flipped<convex_convex>;
 
 // collide_table[type of A][type of B]: `as<f>` runs f as written, `fl<f>` runs f with the
 // arguments swapped and mirrors its answer, `same<f>` does one or the other for two shapes of one
-// type. cvx / xvc: the generic GJK/EPA pair (convex_pairs.cpp), as written / flipped. Planes
+// type; sphere_sphere is called as it is (symmetric by construction). cvx / xvc: the generic
+// GJK/EPA pair (convex_pairs.cpp), as written / flipped. Planes
 // and meshes are static, so plane-plane, plane-mesh and mesh-mesh never need contacts.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
   //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh         compound
-  /* sphere   */ {{same<sphere_sphere>, as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* sphere   */ {{sphere_sphere,      as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
   /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    as<convex_mesh>, fl<compound_any>}},
   /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>}},
   /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>}},

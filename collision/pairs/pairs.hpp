@@ -18,7 +18,9 @@ namespace tumble::detail {
 using PairFunction = int (*)(const Shape& a, const Transform& pose_a, const Shape& b,
                              const Transform& pose_b, Real margin, Manifold& out);
 
-// sphere_pairs.cpp
+// sphere_pairs.cpp. sphere_sphere is symmetric in A and B by construction and works in world
+// coordinates: the table calls it directly, and collide_sphere_pairs (sphere_batch.cpp) repeats
+// its arithmetic lane by lane.
 int sphere_sphere(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                   Real margin, Manifold& out);
 int sphere_capsule(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,

@@ -2,22 +2,52 @@
 // so each pair is "closest point of the other shape's core to the centre", then offset by the
 // radii (Ericson, Real-Time Collision Detection, 2005: 5.1.2 point-segment, 5.1.4 point-OBB).
 #include <cmath>
+#include <limits>
 
 #include "collision/pairs/pairs.hpp"
 
 namespace tumble::detail {
 
+namespace {
+
+// Of two spheres with coincident centres, whether A is pushed up (+z) rather than down.
+bool sphere_goes_up(Real radius_a, const Vec3& centre_a, Real radius_b, const Vec3& centre_b) {
+  if (radius_a != radius_b)
+    return radius_a < radius_b;
+  const auto& p = centre_a;
+  const auto& q = centre_b;
+  return p.x() < q.x() || (p.x() == q.x() && (p.y() < q.y() || (p.y() == q.y() && p.z() <= q.z())));
+}
+
+}  // namespace
+
 int sphere_sphere(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                   Real margin, Manifold& out) {
+  // Written symmetric in A and B, so the table calls it as it is (no ordering rule, no pair
+  // frame): with A and B swapped, `between` and the normal change sign exactly, the length and
+  // depth do not change, and the position sums the same two terms in the other order. It works
+  // on the world translations directly; their difference is as precise as in a pair frame.
   const Vec3 between = pose_a.translation - pose_b.translation;
-  // Coincident centres have no preferred direction: push A up the world z axis (a ball dropped
-  // exactly into another pops up, the least surprising choice under gravity). Of two spheres,
-  // A here is the one that runs first in narrow_phase.cpp's order: the smaller.
-  const Vec3 normal = normalized_or(between, Vec3::UnitZ());
-  const Real depth = a.radius + b.radius - between.dot(normal);
+  const Real length = between.norm();
+  Vec3 normal;
+  if (length > 0 && length <= std::numeric_limits<Real>::max()) {
+    normal = between / length;
+  } else {
+    // Coincident centres (or a NaN/inf offset) have no preferred direction: push the smaller
+    // sphere (of equal ones, the lexicographically lower centre) up the world z axis - a ball
+    // dropped exactly into another pops up, the least surprising choice under gravity.
+    normal =
+        Vec3(0, 0,
+             sphere_goes_up(a.radius, pose_a.translation, b.radius, pose_b.translation) ? Real(1)
+                                                                                        : Real(-1));
+  }
+  const Real depth = a.radius + b.radius - length;
+  if (!(depth >= -margin))
+    return 0;
   out.normal = normal;
-  add_contact(out, pose_a.translation - normal * a.radius, normal, depth, margin,
-              {feature::kSphere, feature::kSphere});
+  out.add(((pose_a.translation - normal * a.radius) + (pose_b.translation + normal * b.radius)) *
+              Real(0.5),
+          depth, {feature::kSphere, feature::kSphere});
   return out.count;
 }
 

@@ -5,7 +5,8 @@
 //      btGjkPairDetector (btVoronoiSimplexSolver, margins 0);
 //   4. GJK+EPA on penetrating 43-vertex hulls: tumble gjk()+epa() vs btGjkPairDetector with
 //      btGjkEpaPenetrationDepthSolver;
-//   5. sphere-sphere over an array of 10,000 pairs: tumble collide() in a loop vs Bullet's
+//   5. sphere-sphere over an array of 10,000 pairs: tumble collide() in a loop, and tumble's
+//      batched path collide_sphere_pairs() (structure-of-arrays), vs Bullet's
 //      per-pair path (btSphereSphereCollisionAlgorithm::processCollision through
 //      btCollisionObjectWrapper and btManifoldResult, the algorithm created once per pair as the
 //      dispatcher caches it).
@@ -29,6 +30,7 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/sphere_batch.hpp"
 
 namespace {
 
@@ -228,6 +230,31 @@ void BM_SphereSphereArray_Tumble(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kSpherePairs);
 }
 
+// The batched path (collision/sphere_batch.hpp) on the same pairs: spheres as
+// structure-of-arrays, pairs as index pairs, one call for all 10,000.
+void BM_SphereSphereArray_TumbleBatch(benchmark::State& state) {
+  Rng rng(5);
+  std::uniform_real_distribution<Real> u(0.5, 1.2);
+  std::vector<Real> x, y, z, radius;
+  std::vector<SpherePair> pairs;
+  for (int i = 0; i < kSpherePairs; ++i) {
+    const Vec3 b = Vec3(i, 0, 0) + unit_vector(rng) * u(rng);
+    x.insert(x.end(), {Real(i), b.x()});
+    y.insert(y.end(), {Real(0), b.y()});
+    z.insert(z.end(), {Real(0), b.z()});
+    radius.insert(radius.end(), {Real(0.5), Real(0.5)});
+    pairs.push_back({2 * i, 2 * i + 1});
+  }
+  const SphereArrays spheres{x.data(), y.data(), z.data(), radius.data()};
+  std::vector<SphereContact> contacts(pairs.size());
+  for (auto _ : state) {
+    const std::size_t written = collide_sphere_pairs(spheres, pairs, 0, contacts);
+    benchmark::DoNotOptimize(written);
+    benchmark::DoNotOptimize(contacts.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kSpherePairs);
+}
+
 void BM_SphereSphereArray_Bullet(benchmark::State& state) {
   Rng rng(5);
   std::uniform_real_distribution<Real> u(0.5, 1.2);
@@ -288,6 +315,7 @@ BENCHMARK(BM_GjkSeparatedHulls43_Bullet);
 BENCHMARK(BM_GjkEpaPenetratingHulls43_Tumble);
 BENCHMARK(BM_GjkEpaPenetratingHulls43_Bullet);
 BENCHMARK(BM_SphereSphereArray_Tumble);
+BENCHMARK(BM_SphereSphereArray_TumbleBatch);
 BENCHMARK(BM_SphereSphereArray_Bullet);
 
 }  // namespace
