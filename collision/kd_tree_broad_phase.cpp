@@ -105,7 +105,7 @@ KdTreeBroadPhase::Split KdTreeBroadPhase::find_split_impl(std::int32_t n, const 
 KdTreeBroadPhase::Split KdTreeBroadPhase::find_split(const std::int32_t* slots, std::int32_t n,
                                                      const Aabb& bounds) const {
   return find_split_impl(
-      n, [&](std::int32_t i) -> const Aabb& { return proxies_[slots[i]].box; }, bounds);
+      n, [&](std::int32_t i) -> const Aabb& { return slots_.proxies[slots[i]].box; }, bounds);
 }
 
 KdTreeBroadPhase::SplitChoice KdTreeBroadPhase::best_split(const std::vector<Aabb>& boxes) const {
@@ -133,7 +133,7 @@ std::int32_t KdTreeBroadPhase::build_node(std::int32_t begin, std::int32_t end, 
   if (n > options_.leaf_size && depth < options_.max_depth) {
     Aabb bounds;
     for (std::int32_t i = begin; i < end; ++i)
-      bounds.grow(proxies_[work_[i]].box);
+      bounds.grow(slots_.proxies[work_[i]].box);
     s = find_split(work_.data() + begin, n, bounds);
     split = s.axis >= 0 && s.cost < Real(n);
   }
@@ -142,7 +142,7 @@ std::int32_t KdTreeBroadPhase::build_node(std::int32_t begin, std::int32_t end, 
     const int a = s.axis;
     std::int32_t mid = begin;
     while (mid < hi) {
-      const Aabb& b = proxies_[work_[mid]].box;
+      const Aabb& b = slots_.proxies[work_[mid]].box;
       if (b.max[a] <= s.plane) {
         ++mid;  // left
       } else if (b.min[a] >= s.plane) {
@@ -178,8 +178,8 @@ std::int32_t KdTreeBroadPhase::build_node(std::int32_t begin, std::int32_t end, 
 
 void KdTreeBroadPhase::rebuild() {
   work_.clear();
-  for (std::size_t s = 0; s < proxies_.size(); ++s) {
-    if (proxies_[s].alive && proxies_[s].node >= 0)
+  for (std::size_t s = 0; s < slots_.proxies.size(); ++s) {
+    if (slots_.proxies[s].alive && slots_.proxies[s].node >= 0)
       work_.push_back(static_cast<std::int32_t>(s));
   }
   nodes_.clear();
@@ -195,27 +195,27 @@ void KdTreeBroadPhase::rebuild() {
 // Proxies in nodes
 
 void KdTreeBroadPhase::link(std::int32_t slot, std::int32_t node) {
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   Node& n = nodes_[node];
   p.node = node;
   p.prev = -1;
   p.next = n.head;
   if (n.head >= 0)
-    proxies_[n.head].prev = slot;
+    slots_.proxies[n.head].prev = slot;
   n.head = slot;
   ++n.count;
   n.static_count += p.is_static ? 1 : 0;
 }
 
 void KdTreeBroadPhase::unlink(std::int32_t slot) {
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   Node& n = nodes_[p.node];
   if (p.prev >= 0)
-    proxies_[p.prev].next = p.next;
+    slots_.proxies[p.prev].next = p.next;
   else
     n.head = p.next;
   if (p.next >= 0)
-    proxies_[p.next].prev = p.prev;
+    slots_.proxies[p.next].prev = p.prev;
   --n.count;
   n.static_count -= p.is_static ? 1 : 0;
   p.node = -1;
@@ -242,25 +242,9 @@ std::int32_t KdTreeBroadPhase::descend(std::int32_t from, const Aabb& box) const
 
 void KdTreeBroadPhase::insert(std::int32_t id, const Aabb& box, bool is_static) {
   assert(id >= 0);
-  if (static_cast<std::size_t>(id) >= slot_of_id_.size())
-    slot_of_id_.resize(static_cast<std::size_t>(id) + 1, -1);
-  if (slot_of_id_[id] >= 0)
+  if (slots_.slot_of(id) >= 0)
     remove(id);
-  std::int32_t slot;
-  if (!free_slots_.empty()) {
-    slot = free_slots_.back();
-    free_slots_.pop_back();
-  } else {
-    slot = static_cast<std::int32_t>(proxies_.size());
-    proxies_.emplace_back();
-  }
-  slot_of_id_[id] = slot;
-  Proxy& p = proxies_[slot];
-  p = Proxy{};
-  p.box = box;
-  p.id = id;
-  p.is_static = is_static;
-  p.alive = true;
+  const std::int32_t slot = slots_.add(id, box, is_static);
   if (is_unbounded(box)) {
     unbounded_.push_back(slot);
     return;
@@ -271,24 +255,22 @@ void KdTreeBroadPhase::insert(std::int32_t id, const Aabb& box, bool is_static) 
 }
 
 void KdTreeBroadPhase::remove(std::int32_t id) {
-  if (id < 0 || static_cast<std::size_t>(id) >= slot_of_id_.size() || slot_of_id_[id] < 0)
+  const std::int32_t slot = slots_.slot_of(id);
+  if (slot < 0)
     return;
-  const std::int32_t slot = slot_of_id_[id];
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   if (p.node >= 0) {
     unlink(slot);
     --bounded_count_;
   } else {
     unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), slot));
   }
-  p.alive = false;
-  slot_of_id_[id] = -1;
-  free_slots_.push_back(slot);
+  slots_.free(id);
 }
 
 void KdTreeBroadPhase::update(std::int32_t id, const Aabb& box) {
-  const std::int32_t slot = slot_of_id_[id];
-  Proxy& p = proxies_[slot];
+  const std::int32_t slot = slots_.slot_of(id);
+  Proxy& p = slots_.proxies[slot];
   const bool unbounded = is_unbounded(box);
   p.box = box;
   if (p.node < 0) {  // was unbounded
@@ -338,7 +320,7 @@ void KdTreeBroadPhase::pack() {
     packed_.set_node(j, node.parent, node.skip, node.count - node.static_count, node.static_count);
   }
   packed_.allocate();
-  for (const Proxy& p : proxies_) {
+  for (const Proxy& p : slots_.proxies) {
     if (p.alive && p.node >= 0)
       packed_.place(p.node, p.box, p.id, p.is_static);
   }
@@ -372,11 +354,12 @@ void KdTreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   // Unbounded proxies stay outside the tree; bounded proxies never look at them, so each such
   // pair is seen once, here.
   for (const std::int32_t s : unbounded_)
-    packed_.search_outsider(proxies_[s].box, proxies_[s].id, proxies_[s].is_static, keys_);
+    packed_.search_outsider(slots_.proxies[s].box, slots_.proxies[s].id,
+                            slots_.proxies[s].is_static, keys_);
   for (std::size_t i = 0; i < unbounded_.size(); ++i) {
-    const Proxy& a = proxies_[unbounded_[i]];
+    const Proxy& a = slots_.proxies[unbounded_[i]];
     for (std::size_t j = i + 1; j < unbounded_.size(); ++j) {
-      const Proxy& b = proxies_[unbounded_[j]];
+      const Proxy& b = slots_.proxies[unbounded_[j]];
       if (!(a.is_static && b.is_static) && a.box.overlaps(b.box))
         keys_.push_back(pair_key(a.id, b.id));
     }
@@ -407,9 +390,9 @@ void KdTreeBroadPhase::query_node(std::int32_t n, const Aabb& box,
                                   std::vector<std::int32_t>& out) const {
   while (true) {
     const Node& node = nodes_[n];
-    for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
-      if (proxies_[s].box.overlaps(box))
-        out.push_back(proxies_[s].id);
+    for (std::int32_t s = node.head; s >= 0; s = slots_.proxies[s].next) {
+      if (slots_.proxies[s].box.overlaps(box))
+        out.push_back(slots_.proxies[s].id);
     }
     if (node.axis < 0)
       return;
@@ -427,8 +410,8 @@ void KdTreeBroadPhase::query(const Aabb& box, std::vector<std::int32_t>& out) co
   out.clear();
   query_node(0, box, out);
   for (const std::int32_t s : unbounded_) {
-    if (proxies_[s].box.overlaps(box))
-      out.push_back(proxies_[s].id);
+    if (slots_.proxies[s].box.overlaps(box))
+      out.push_back(slots_.proxies[s].id);
   }
   std::sort(out.begin(), out.end());
 }
@@ -440,9 +423,9 @@ void KdTreeBroadPhase::ray_node(std::int32_t n, const Vec3& o, const Vec3& d, Re
   const Node& node = nodes_[n];
   if (!segment_touches_aabb(o, d, max_t, node.cell))
     return;
-  for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
-    if (segment_touches_aabb(o, d, max_t, proxies_[s].box))
-      out.push_back(proxies_[s].id);
+  for (std::int32_t s = node.head; s >= 0; s = slots_.proxies[s].next) {
+    if (segment_touches_aabb(o, d, max_t, slots_.proxies[s].box))
+      out.push_back(slots_.proxies[s].id);
   }
   if (node.axis >= 0) {
     ray_node(n + 1, o, d, max_t, out);
@@ -455,8 +438,8 @@ void KdTreeBroadPhase::ray_cast(const Vec3& origin, const Vec3& direction, Real 
   out.clear();
   ray_node(0, origin, direction, max_t, out);
   for (const std::int32_t s : unbounded_) {
-    if (segment_touches_aabb(origin, direction, max_t, proxies_[s].box))
-      out.push_back(proxies_[s].id);
+    if (segment_touches_aabb(origin, direction, max_t, slots_.proxies[s].box))
+      out.push_back(slots_.proxies[s].id);
   }
   std::sort(out.begin(), out.end());
 }

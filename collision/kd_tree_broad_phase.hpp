@@ -64,6 +64,7 @@
 
 #include "collision/broad_phase.hpp"
 #include "collision/packed_proxy_tree.hpp"
+#include "collision/proxy_slots.hpp"
 
 namespace tumble {
 
@@ -138,15 +139,7 @@ class KdTreeBroadPhase final : public BroadPhase {
     std::int32_t depth = 0;
     std::int8_t axis = -1;  // -1: leaf
   };
-  struct Proxy {
-    Aabb box;
-    std::int32_t id = -1;
-    std::int32_t node = -1;  // -1: unbounded list, or free slot
-    std::int32_t next = -1;
-    std::int32_t prev = -1;
-    bool is_static = false;
-    bool alive = false;
-  };
+  using Proxy = detail::LinkedProxy;
   struct Split {
     int axis = -1;
     Real plane = 0;
@@ -172,11 +165,9 @@ class KdTreeBroadPhase final : public BroadPhase {
   KdTreeOptions options_;
 
   std::vector<Node> nodes_;  // preorder, root at 0
-  std::vector<Proxy> proxies_;
-  std::vector<std::int32_t> free_slots_;
-  std::vector<std::int32_t> slot_of_id_;  // id -> slot, -1 if absent
-  std::vector<std::int32_t> unbounded_;   // slots of proxies with infinite boxes
-  std::int32_t bounded_count_ = 0;        // proxies in the tree
+  detail::ProxySlots slots_;
+  std::vector<std::int32_t> unbounded_;  // slots of proxies with infinite boxes
+  std::int32_t bounded_count_ = 0;       // proxies in the tree
 
   // Rebuild policy state.
   std::int32_t built_count_ = 0;  // proxies in the tree at the last build

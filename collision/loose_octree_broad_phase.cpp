@@ -201,27 +201,27 @@ void LooseOctreeBroadPhase::collapse_root() {
 // Proxies in nodes
 
 void LooseOctreeBroadPhase::link(std::int32_t slot, std::int32_t node) {
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   Node& n = nodes_[node];
   p.node = node;
   p.prev = -1;
   p.next = n.head;
   if (n.head >= 0)
-    proxies_[n.head].prev = slot;
+    slots_.proxies[n.head].prev = slot;
   n.head = slot;
   ++n.count;
   n.static_count += p.is_static ? 1 : 0;
 }
 
 void LooseOctreeBroadPhase::unlink(std::int32_t slot) {
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   Node& n = nodes_[p.node];
   if (p.prev >= 0)
-    proxies_[p.prev].next = p.next;
+    slots_.proxies[p.prev].next = p.next;
   else
     n.head = p.next;
   if (p.next >= 0)
-    proxies_[p.next].prev = p.prev;
+    slots_.proxies[p.next].prev = p.prev;
   --n.count;
   n.static_count -= p.is_static ? 1 : 0;
   p.node = -1;
@@ -233,7 +233,7 @@ void LooseOctreeBroadPhase::unlink(std::int32_t slot) {
 // fit the child's loose bound wherever its centre is in the child's cell) and the child's stored
 // loose bound really holds it (this last check only fails on rounding at a world edge).
 void LooseOctreeBroadPhase::place(std::int32_t slot) {
-  const Aabb box = proxies_[slot].box;
+  const Aabb box = slots_.proxies[slot].box;
   if (!world_holds(box))
     grow_to_contain(box);
   const Real r = max_half_extent(box);
@@ -271,8 +271,8 @@ void LooseOctreeBroadPhase::split_node(std::int32_t n) {
   const Real child_slack = k_ * (nodes_[n].half * Real(0.5));
   std::int32_t s = nodes_[n].head;
   while (s >= 0) {
-    const std::int32_t next = proxies_[s].next;
-    const Aabb& box = proxies_[s].box;
+    const std::int32_t next = slots_.proxies[s].next;
+    const Aabb& box = slots_.proxies[s].box;
     if (max_half_extent(box) <= child_slack) {
       const int octant = octant_of(nodes_[n].centre, centre_of(box));
       std::int32_t ch = nodes_[n].child[octant];
@@ -348,25 +348,9 @@ std::int32_t LooseOctreeBroadPhase::maintain(std::int32_t n) {
 
 void LooseOctreeBroadPhase::insert(std::int32_t id, const Aabb& box, bool is_static) {
   assert(id >= 0);
-  if (static_cast<std::size_t>(id) >= slot_of_id_.size())
-    slot_of_id_.resize(static_cast<std::size_t>(id) + 1, -1);
-  if (slot_of_id_[id] >= 0)
+  if (slots_.slot_of(id) >= 0)
     remove(id);
-  std::int32_t slot;
-  if (!free_slots_.empty()) {
-    slot = free_slots_.back();
-    free_slots_.pop_back();
-  } else {
-    slot = static_cast<std::int32_t>(proxies_.size());
-    proxies_.emplace_back();
-  }
-  slot_of_id_[id] = slot;
-  Proxy& p = proxies_[slot];
-  p = Proxy{};
-  p.box = box;
-  p.id = id;
-  p.is_static = is_static;
-  p.alive = true;
+  const std::int32_t slot = slots_.add(id, box, is_static);
   if (is_unbounded(box)) {
     unbounded_.push_back(slot);
     return;
@@ -377,22 +361,20 @@ void LooseOctreeBroadPhase::insert(std::int32_t id, const Aabb& box, bool is_sta
 }
 
 void LooseOctreeBroadPhase::remove(std::int32_t id) {
-  if (id < 0 || static_cast<std::size_t>(id) >= slot_of_id_.size() || slot_of_id_[id] < 0)
+  const std::int32_t slot = slots_.slot_of(id);
+  if (slot < 0)
     return;
-  const std::int32_t slot = slot_of_id_[id];
-  Proxy& p = proxies_[slot];
+  Proxy& p = slots_.proxies[slot];
   if (p.node >= 0)
     unlink(slot);
   else
     unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), slot));
-  p.alive = false;
-  slot_of_id_[id] = -1;
-  free_slots_.push_back(slot);
+  slots_.free(id);
 }
 
 void LooseOctreeBroadPhase::update(std::int32_t id, const Aabb& box) {
-  const std::int32_t slot = slot_of_id_[id];
-  Proxy& p = proxies_[slot];
+  const std::int32_t slot = slots_.slot_of(id);
+  Proxy& p = slots_.proxies[slot];
   const bool unbounded = is_unbounded(box);
   p.box = box;
   if (p.node < 0) {  // was unbounded
@@ -457,7 +439,7 @@ void LooseOctreeBroadPhase::pack() {
     }
   }
   packed_.allocate();
-  for (const Proxy& p : proxies_) {
+  for (const Proxy& p : slots_.proxies) {
     if (p.alive && p.node >= 0)
       packed_.place(nodes_[p.node].pre, p.box, p.id, p.is_static);
   }
@@ -479,11 +461,12 @@ void LooseOctreeBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   // Unbounded proxies stay outside the tree; bounded proxies never look at them, so each such
   // pair is seen once, here.
   for (const std::int32_t s : unbounded_)
-    packed_.search_outsider(proxies_[s].box, proxies_[s].id, proxies_[s].is_static, keys_);
+    packed_.search_outsider(slots_.proxies[s].box, slots_.proxies[s].id,
+                            slots_.proxies[s].is_static, keys_);
   for (std::size_t i = 0; i < unbounded_.size(); ++i) {
-    const Proxy& a = proxies_[unbounded_[i]];
+    const Proxy& a = slots_.proxies[unbounded_[i]];
     for (std::size_t j = i + 1; j < unbounded_.size(); ++j) {
-      const Proxy& b = proxies_[unbounded_[j]];
+      const Proxy& b = slots_.proxies[unbounded_[j]];
       if (!(a.is_static && b.is_static) && a.box.overlaps(b.box))
         keys_.push_back(pair_key(a.id, b.id));
     }
@@ -501,9 +484,9 @@ void LooseOctreeBroadPhase::query_node(std::int32_t n, const Aabb& box,
   const Node& node = nodes_[n];
   if (!node.loose.overlaps(box))
     return;
-  for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
-    if (proxies_[s].box.overlaps(box))
-      out.push_back(proxies_[s].id);
+  for (std::int32_t s = node.head; s >= 0; s = slots_.proxies[s].next) {
+    if (slots_.proxies[s].box.overlaps(box))
+      out.push_back(slots_.proxies[s].id);
   }
   for (const std::int32_t c : node.child) {
     if (c >= 0)
@@ -516,8 +499,8 @@ void LooseOctreeBroadPhase::query(const Aabb& box, std::vector<std::int32_t>& ou
   if (root_ >= 0)
     query_node(root_, box, out);
   for (const std::int32_t s : unbounded_) {
-    if (proxies_[s].box.overlaps(box))
-      out.push_back(proxies_[s].id);
+    if (slots_.proxies[s].box.overlaps(box))
+      out.push_back(slots_.proxies[s].id);
   }
   std::sort(out.begin(), out.end());
 }
@@ -527,9 +510,9 @@ void LooseOctreeBroadPhase::ray_node(std::int32_t n, const Vec3& o, const Vec3& 
   const Node& node = nodes_[n];
   if (!segment_touches_aabb(o, d, max_t, node.loose))
     return;
-  for (std::int32_t s = node.head; s >= 0; s = proxies_[s].next) {
-    if (segment_touches_aabb(o, d, max_t, proxies_[s].box))
-      out.push_back(proxies_[s].id);
+  for (std::int32_t s = node.head; s >= 0; s = slots_.proxies[s].next) {
+    if (segment_touches_aabb(o, d, max_t, slots_.proxies[s].box))
+      out.push_back(slots_.proxies[s].id);
   }
   for (const std::int32_t c : node.child) {
     if (c >= 0)
@@ -543,8 +526,8 @@ void LooseOctreeBroadPhase::ray_cast(const Vec3& origin, const Vec3& direction, 
   if (root_ >= 0)
     ray_node(root_, origin, direction, max_t, out);
   for (const std::int32_t s : unbounded_) {
-    if (segment_touches_aabb(origin, direction, max_t, proxies_[s].box))
-      out.push_back(proxies_[s].id);
+    if (segment_touches_aabb(origin, direction, max_t, slots_.proxies[s].box))
+      out.push_back(slots_.proxies[s].id);
   }
   std::sort(out.begin(), out.end());
 }
@@ -574,12 +557,12 @@ LooseOctreeBroadPhase::Stats LooseOctreeBroadPhase::stats() const {
 }
 
 int LooseOctreeBroadPhase::level_of(std::int32_t id) const {
-  const Proxy& p = proxies_[slot_of_id_[id]];
+  const Proxy& p = slots_.proxies[slots_.slot_of(id)];
   return p.node < 0 ? -1 : nodes_[p.node].depth;
 }
 
 Aabb LooseOctreeBroadPhase::loose_bound_of(std::int32_t id) const {
-  const Proxy& p = proxies_[slot_of_id_[id]];
+  const Proxy& p = slots_.proxies[slots_.slot_of(id)];
   if (p.node < 0) {
     const Real inf = std::numeric_limits<Real>::infinity();
     return {Vec3::Constant(-inf), Vec3::Constant(inf)};

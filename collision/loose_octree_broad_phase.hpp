@@ -60,6 +60,7 @@
 
 #include "collision/broad_phase.hpp"
 #include "collision/packed_proxy_tree.hpp"
+#include "collision/proxy_slots.hpp"
 
 namespace tumble {
 
@@ -112,15 +113,7 @@ class LooseOctreeBroadPhase final : public BroadPhase {
     std::int32_t depth = 0;
     bool split = false;  // proxies small enough go to children
   };
-  struct Proxy {
-    Aabb box;
-    std::int32_t id = -1;
-    std::int32_t node = -1;  // -1: unbounded list, or free slot
-    std::int32_t next = -1;
-    std::int32_t prev = -1;
-    bool is_static = false;
-    bool alive = false;
-  };
+  using Proxy = detail::LinkedProxy;
 
   static bool is_unbounded(const Aabb& box);
   Real max_half_extent(const Aabb& box) const;
@@ -151,10 +144,8 @@ class LooseOctreeBroadPhase final : public BroadPhase {
   std::vector<Node> nodes_;
   std::vector<std::int32_t> free_nodes_;
   std::int32_t root_ = -1;
-  std::vector<Proxy> proxies_;
-  std::vector<std::int32_t> free_slots_;
-  std::vector<std::int32_t> slot_of_id_;  // id -> slot, -1 if absent
-  std::vector<std::int32_t> unbounded_;   // slots of proxies with infinite boxes
+  detail::ProxySlots slots_;
+  std::vector<std::int32_t> unbounded_;  // slots of proxies with infinite boxes
 
   // find_pairs scratch, reused so a warmed-up step allocates nothing.
   detail::PackedProxyTree packed_;
