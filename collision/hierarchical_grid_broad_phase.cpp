@@ -400,34 +400,10 @@ void HierarchicalGridBroadPhase::pairs_across_levels() {
   }
 }
 
-// The oversized list: each dynamic member against every other proxy, each static member against
-// every dynamic grid proxy (static-static pairs are never reported).
 void HierarchicalGridBroadPhase::pairs_with_oversized() {
-  const std::vector<GridProxy>& moving = store_.moving;
-  const std::vector<GridProxy>& fixed = store_.fixed;
-  for (std::size_t k = 0; k < moving_big_.size(); ++k) {
-    const GridProxy& a = moving[moving_big_[k]];
-    for (std::size_t s = 0; s < moving.size(); ++s) {
-      if (moving_level_[s] >= 0 && a.box.overlaps(moving[s].box))
-        sorter_.emit(a.id, moving[s].id);
-    }
-    for (std::size_t j = k + 1; j < moving_big_.size(); ++j) {
-      const GridProxy& b = moving[moving_big_[j]];
-      if (a.box.overlaps(b.box))
-        sorter_.emit(a.id, b.id);
-    }
-    for (const GridProxy& b : fixed) {
-      if (a.box.overlaps(b.box))
-        sorter_.emit(a.id, b.id);
-    }
-  }
-  for (const std::uint32_t f : fixed_big_) {
-    const GridProxy& a = fixed[f];
-    for (std::size_t s = 0; s < moving.size(); ++s) {
-      if (moving_level_[s] >= 0 && a.box.overlaps(moving[s].box))
-        sorter_.emit(a.id, moving[s].id);
-    }
-  }
+  grid_detail::pairs_with_oversized(
+      store_.moving, store_.fixed, moving_big_, fixed_big_,
+      [this](std::size_t s) { return moving_level_[s] >= 0; }, sorter_);
 }
 
 void HierarchicalGridBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
@@ -472,20 +448,9 @@ void HierarchicalGridBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   built_ = true;
 }
 
-void HierarchicalGridBroadPhase::scan_all(const Aabb& box, std::vector<std::int32_t>& out) const {
-  out.clear();
-  for (const auto* pool : {&store_.moving, &store_.fixed}) {
-    for (const GridProxy& p : *pool) {
-      if (p.box.overlaps(box))
-        out.push_back(p.id);
-    }
-  }
-  std::sort(out.begin(), out.end());
-}
-
 void HierarchicalGridBroadPhase::query(const Aabb& box, std::vector<std::int32_t>& out) const {
   if (!built_ || !is_regular(box)) {
-    scan_all(box, out);
+    store_.overlapping(box, out);
     return;
   }
   out.clear();
@@ -548,11 +513,7 @@ void HierarchicalGridBroadPhase::ray_cast(const Vec3& origin, const Vec3& direct
   const bool regular_ray =
       origin.allFinite() && direction.allFinite() && std::isfinite(max_t) && !direction.isZero(0);
   if (!built_ || !regular_ray) {
-    for (const GridProxy& p : store_.moving)
-      test(p);
-    for (const GridProxy& p : store_.fixed)
-      test(p);
-    std::sort(out.begin(), out.end());
+    store_.touched_by_segment(origin, direction, max_t, out);
     return;
   }
   int a = 0;

@@ -138,7 +138,6 @@ class HierarchicalGridBroadPhase final : public BroadPhase {
   Real level_inv(int level) const { return std::ldexp(inv_s0_, -level); }
   Real level_cell(int level) const { return std::ldexp(s0_, level); }
   static std::int32_t cell_of(Real x, Real inv);
-  void scan_all(const Aabb& box, std::vector<std::int32_t>& out) const;
 
   Real fixed_s0_ = 0;  // the constructor's s_0, 0 for derived
   Real s0_ = 1;

@@ -201,31 +201,11 @@ void LooseOctreeBroadPhase::collapse_root() {
 // Proxies in nodes
 
 void LooseOctreeBroadPhase::link(std::int32_t slot, std::int32_t node) {
-  Proxy& p = slots_.proxies[slot];
-  Node& n = nodes_[node];
-  p.node = node;
-  p.prev = -1;
-  p.next = n.head;
-  if (n.head >= 0)
-    slots_.proxies[n.head].prev = slot;
-  n.head = slot;
-  ++n.count;
-  n.static_count += p.is_static ? 1 : 0;
+  slots_.link(nodes_, slot, node);
 }
 
 void LooseOctreeBroadPhase::unlink(std::int32_t slot) {
-  Proxy& p = slots_.proxies[slot];
-  Node& n = nodes_[p.node];
-  if (p.prev >= 0)
-    slots_.proxies[p.prev].next = p.next;
-  else
-    n.head = p.next;
-  if (p.next >= 0)
-    slots_.proxies[p.next].prev = p.prev;
-  --n.count;
-  n.static_count -= p.is_static ? 1 : 0;
-  p.node = -1;
-  p.next = p.prev = -1;
+  slots_.unlink(nodes_, slot);
 }
 
 // Ulrich's placement: from the root, follow the box centre's octant while the node is split,

@@ -1,7 +1,8 @@
 // The proxy store of the k-d tree and the loose octree (internal): both link proxies into
 // per-node lists by slot, so a proxy's slot must stay put while others come and go. Slots live
 // in one vector; a freed slot goes on a free list and is reused by the next insertion, and an
-// id -> slot table finds a body's proxy in O(1).
+// id -> slot table finds a body's proxy in O(1). Each node keeps a doubly linked list of its
+// proxies (head in the node, next/prev in the proxies).
 #pragma once
 
 #include <cstddef>
@@ -58,6 +59,38 @@ struct ProxySlots {
     proxies[std::size_t(slot)].alive = false;
     slot_of_id_[std::size_t(id)] = -1;
     free_slots_.push_back(slot);
+  }
+
+  // Puts `slot` at the head of node `node`'s list; Node has head, count and static_count.
+  template <class Node>
+  void link(std::vector<Node>& nodes, std::int32_t slot, std::int32_t node) {
+    LinkedProxy& p = proxies[std::size_t(slot)];
+    Node& n = nodes[std::size_t(node)];
+    p.node = node;
+    p.prev = -1;
+    p.next = n.head;
+    if (n.head >= 0)
+      proxies[std::size_t(n.head)].prev = slot;
+    n.head = slot;
+    ++n.count;
+    n.static_count += p.is_static ? 1 : 0;
+  }
+
+  // Takes `slot` out of its node's list.
+  template <class Node>
+  void unlink(std::vector<Node>& nodes, std::int32_t slot) {
+    LinkedProxy& p = proxies[std::size_t(slot)];
+    Node& n = nodes[std::size_t(p.node)];
+    if (p.prev >= 0)
+      proxies[std::size_t(p.prev)].next = p.next;
+    else
+      n.head = p.next;
+    if (p.next >= 0)
+      proxies[std::size_t(p.next)].prev = p.prev;
+    --n.count;
+    n.static_count -= p.is_static ? 1 : 0;
+    p.node = -1;
+    p.next = p.prev = -1;
   }
 
  private:

@@ -46,6 +46,29 @@ bool ProxyStore::update(std::int32_t id, const Aabb& box) {
   return is_static;
 }
 
+void ProxyStore::overlapping(const Aabb& box, std::vector<std::int32_t>& out) const {
+  out.clear();
+  for (const auto* pool : {&moving, &fixed}) {
+    for (const GridProxy& p : *pool) {
+      if (p.box.overlaps(box))
+        out.push_back(p.id);
+    }
+  }
+  std::sort(out.begin(), out.end());
+}
+
+void ProxyStore::touched_by_segment(const Vec3& origin, const Vec3& direction, Real max_t,
+                                    std::vector<std::int32_t>& out) const {
+  out.clear();
+  for (const auto* pool : {&moving, &fixed}) {
+    for (const GridProxy& p : *pool) {
+      if (segment_touches_aabb(origin, direction, max_t, p.box))
+        out.push_back(p.id);
+    }
+  }
+  std::sort(out.begin(), out.end());
+}
+
 void ProxyStore::permute_moving(const std::vector<std::uint32_t>& order) {
   scratch_.resize(moving.size());
   for (std::size_t i = 0; i < order.size(); ++i)
@@ -546,34 +569,10 @@ void UniformGridBroadPhase::pairs_in_cells() {
   }
 }
 
-// The oversized list: each dynamic member against every other proxy, each static member against
-// every dynamic grid proxy (static-static pairs are never reported).
 void UniformGridBroadPhase::pairs_with_oversized() {
-  const std::vector<GridProxy>& moving = store_.moving;
-  const std::vector<GridProxy>& fixed = store_.fixed;
-  for (std::size_t k = 0; k < moving_big_.size(); ++k) {
-    const GridProxy& a = moving[moving_big_[k]];
-    for (std::size_t s = 0; s < moving.size(); ++s) {
-      if (moving_in_grid_[s] && a.box.overlaps(moving[s].box))
-        sorter_.emit(a.id, moving[s].id);
-    }
-    for (std::size_t j = k + 1; j < moving_big_.size(); ++j) {
-      const GridProxy& b = moving[moving_big_[j]];
-      if (a.box.overlaps(b.box))
-        sorter_.emit(a.id, b.id);
-    }
-    for (const GridProxy& b : fixed) {
-      if (a.box.overlaps(b.box))
-        sorter_.emit(a.id, b.id);
-    }
-  }
-  for (const std::uint32_t f : fixed_big_) {
-    const GridProxy& a = fixed[f];
-    for (std::size_t s = 0; s < moving.size(); ++s) {
-      if (moving_in_grid_[s] && a.box.overlaps(moving[s].box))
-        sorter_.emit(a.id, moving[s].id);
-    }
-  }
+  grid_detail::pairs_with_oversized(
+      store_.moving, store_.fixed, moving_big_, fixed_big_,
+      [this](std::size_t s) { return moving_in_grid_[s] != 0; }, sorter_);
 }
 
 void UniformGridBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
@@ -585,20 +584,9 @@ void UniformGridBroadPhase::find_pairs(std::vector<ProxyPair>& out) {
   built_ = true;
 }
 
-void UniformGridBroadPhase::scan_all(const Aabb& box, std::vector<std::int32_t>& out) const {
-  out.clear();
-  for (const auto* pool : {&store_.moving, &store_.fixed}) {
-    for (const GridProxy& p : *pool) {
-      if (p.box.overlaps(box))
-        out.push_back(p.id);
-    }
-  }
-  std::sort(out.begin(), out.end());
-}
-
 void UniformGridBroadPhase::query(const Aabb& box, std::vector<std::int32_t>& out) const {
   if (!built_ || !is_regular(box)) {
-    scan_all(box, out);
+    store_.overlapping(box, out);
     return;
   }
   out.clear();
@@ -673,11 +661,7 @@ void UniformGridBroadPhase::ray_cast(const Vec3& origin, const Vec3& direction, 
   const bool regular_ray =
       origin.allFinite() && direction.allFinite() && std::isfinite(max_t) && !direction.isZero(0);
   if (!built_ || !regular_ray) {
-    for (const GridProxy& p : store_.moving)
-      test(p);
-    for (const GridProxy& p : store_.fixed)
-      test(p);
-    std::sort(out.begin(), out.end());
+    store_.touched_by_segment(origin, direction, max_t, out);
     return;
   }
   const std::vector<GridProxy>& moving = store_.moving;

@@ -116,6 +116,13 @@ class ProxyStore {
     return loc_[uid] & ~kStaticBit;
   }
 
+  // The ids of every proxy whose box overlaps `box`, sorted: the brute-force query the grids
+  // fall back to before their first build and for boxes they cannot bin (infinite, NaN).
+  void overlapping(const Aabb& box, std::vector<std::int32_t>& out) const;
+  // The same for the segment origin + t direction, t in [0, max_t] (rays they cannot march).
+  void touched_by_segment(const Vec3& origin, const Vec3& direction, Real max_t,
+                          std::vector<std::int32_t>& out) const;
+
   // Puts the dynamic proxies in the order of `order` (a permutation of their slots).
   void permute_moving(const std::vector<std::uint32_t>& order);
 
@@ -197,6 +204,40 @@ class PairSorter {
 // the proxy's lowest (after Le Grand's home and phantom cells, GPU Gems 3, ch. 32, 2007).
 inline constexpr int kHomeBits = 3;
 inline constexpr std::uint32_t kHomeMask = 7;
+
+// The pairs of the oversized lists (slots of proxies too big for any cell): each dynamic member
+// against every other proxy, each static member against every dynamic proxy in the grid
+// (static-static pairs are never reported). `in_grid(s)` says whether dynamic slot s is in the
+// grid rather than on the list.
+template <class InGrid>
+void pairs_with_oversized(const std::vector<GridProxy>& moving, const std::vector<GridProxy>& fixed,
+                          const std::vector<std::uint32_t>& moving_big,
+                          const std::vector<std::uint32_t>& fixed_big, InGrid in_grid,
+                          PairSorter& sorter) {
+  for (std::size_t k = 0; k < moving_big.size(); ++k) {
+    const GridProxy& a = moving[moving_big[k]];
+    for (std::size_t s = 0; s < moving.size(); ++s) {
+      if (in_grid(s) && a.box.overlaps(moving[s].box))
+        sorter.emit(a.id, moving[s].id);
+    }
+    for (std::size_t j = k + 1; j < moving_big.size(); ++j) {
+      const GridProxy& b = moving[moving_big[j]];
+      if (a.box.overlaps(b.box))
+        sorter.emit(a.id, b.id);
+    }
+    for (const GridProxy& b : fixed) {
+      if (a.box.overlaps(b.box))
+        sorter.emit(a.id, b.id);
+    }
+  }
+  for (const std::uint32_t f : fixed_big) {
+    const GridProxy& a = fixed[f];
+    for (std::size_t s = 0; s < moving.size(); ++s) {
+      if (in_grid(s) && a.box.overlaps(moving[s].box))
+        sorter.emit(a.id, moving[s].id);
+    }
+  }
+}
 
 // The pairs of one cell: each dynamic entry of [begin, end) with the later dynamic entries and
 // with the static entries [fixed_begin, fixed_end). A pair is reported only in the one cell
@@ -353,7 +394,6 @@ class UniformGridBroadPhase final : public BroadPhase {
     return layout_.part[0][x] + layout_.part[1][y] + layout_.part[2][z];
   }
   std::int32_t clamped_cell(int axis, Real x) const;
-  void scan_all(const Aabb& box, std::vector<std::int32_t>& out) const;
 
   UniformGridSettings settings_;
   grid_detail::ProxyStore store_;
