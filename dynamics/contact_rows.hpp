@@ -103,4 +103,29 @@ void fill_contact_point(Point& p, const PairContact& pc, const ContactPoint& cp,
   p.friction = pc.friction;
 }
 
+// Writes every pair's points with their accumulated impulses into `cache`, for the next step's
+// warm start (friction as one world vector, so a turned tangent frame keeps it).
+template <class Point, class PairInfo>
+void store_manifolds(const std::vector<PairInfo>& pairs,
+                     const std::vector<std::int32_t>& pair_bodies, const std::vector<Point>& points,
+                     std::vector<CachedManifold>& cache) {
+  cache.clear();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const PairInfo& info = pairs[i];
+    CachedManifold m;
+    m.body_a = pair_bodies[2 * i];
+    m.body_b = pair_bodies[2 * i + 1];
+    m.count = info.count;
+    for (int k = 0; k < info.count; ++k) {
+      const Point& p = points[std::size_t(info.first_point + k)];
+      m.points[k].feature = p.feature;
+      m.points[k].local_point = p.local_a;
+      m.points[k].normal_impulse = p.normal_impulse;
+      m.points[k].friction_impulse =
+          p.tangent1 * p.tangent_impulse1 + p.tangent2 * p.tangent_impulse2;
+    }
+    cache.push_back(m);
+  }
+}
+
 }  // namespace tumble::detail

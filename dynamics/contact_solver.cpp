@@ -243,23 +243,7 @@ void ContactSolver::apply_restitution(std::span<BodyState> bodies) {
 }
 
 void ContactSolver::store(std::vector<CachedManifold>& cache) const {
-  cache.clear();
-  for (std::size_t i = 0; i < pairs_.size(); ++i) {
-    const PairInfo& info = pairs_[i];
-    CachedManifold m;
-    m.body_a = pair_bodies_[2 * i];
-    m.body_b = pair_bodies_[2 * i + 1];
-    m.count = info.count;
-    for (int k = 0; k < info.count; ++k) {
-      const Point& p = points_[info.first_point + k];
-      m.points[k].feature = p.feature;
-      m.points[k].local_point = p.local_a;
-      m.points[k].normal_impulse = p.normal_impulse;
-      m.points[k].friction_impulse =
-          p.tangent1 * p.tangent_impulse1 + p.tangent2 * p.tangent_impulse2;
-    }
-    cache.push_back(m);
-  }
+  detail::store_manifolds(pairs_, pair_bodies_, points_, cache);
 }
 
 }  // namespace tumble

@@ -21,6 +21,7 @@
 #include "collision/contact.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
+#include "dynamics/solver_point.hpp"
 
 namespace tumble {
 
@@ -75,40 +76,11 @@ class ContactSolver {
   int point_count() const { return static_cast<int>(points_.size()); }
 
  private:
-  struct Point {
-    std::int32_t a = 0;
-    std::int32_t b = 0;
-    std::uint32_t feature = 0;
-    Vec3 normal = Vec3::UnitZ();  // from B to A
-    Vec3 tangent1 = Vec3::UnitX();
-    Vec3 tangent2 = Vec3::UnitY();
-    Vec3 r_a = Vec3::Zero();  // lever arms at the start of the step (world)
-    Vec3 r_b = Vec3::Zero();
-    Vec3 local_a = Vec3::Zero();  // anchors in each body's frame, to track separation
-    Vec3 local_b = Vec3::Zero();
-    Real base_separation = 0;  // separation less the anchors' offset along the normal
-    // Jacobian rows precomputed once per step (Catto, GDC 2005): the lever arm crossed with
-    // each direction, and the angular velocity change per unit impulse along it,
-    // I^-1 (r x d), for A and B. They turn every velocity read and impulse into dot products
-    // and scaled additions instead of matrix products.
-    Vec3 rn_a = Vec3::Zero(), rn_b = Vec3::Zero();
-    Vec3 rt1_a = Vec3::Zero(), rt1_b = Vec3::Zero();
-    Vec3 rt2_a = Vec3::Zero(), rt2_b = Vec3::Zero();
-    Vec3 in_a = Vec3::Zero(), in_b = Vec3::Zero();
-    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
-    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
-    Real inv_mass_a = 0, inv_mass_b = 0;
-    Real normal_mass = 0;
-    Real tangent_mass1 = 0;
-    Real tangent_mass2 = 0;
-    Real friction = 0;
+  struct Point : detail::SolverPoint {
     Real restitution = 0;
     Real impact_velocity = 0;  // normal velocity just before the step's first push
     bool touched = false;      // pushed at least once this step
     bool bounced = false;      // restitution applied this step
-    Real normal_impulse = 0;
-    Real tangent_impulse1 = 0;
-    Real tangent_impulse2 = 0;
   };
 
   struct PairInfo {

@@ -28,6 +28,7 @@
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/rigid_body.hpp"
+#include "dynamics/solver_point.hpp"
 
 namespace tumble {
 
@@ -72,36 +73,10 @@ class PenaltySolver {
   const PenaltySolverSettings& settings() const { return settings_; }
 
  private:
-  struct Point {
-    std::int32_t a = 0;
-    std::int32_t b = 0;
-    std::uint32_t feature = 0;
-    Vec3 normal = Vec3::UnitZ();  // from B to A
-    Vec3 tangent1 = Vec3::UnitX();
-    Vec3 tangent2 = Vec3::UnitY();
-    Vec3 r_a = Vec3::Zero();
-    Vec3 r_b = Vec3::Zero();
-    Vec3 local_a = Vec3::Zero();
-    Vec3 local_b = Vec3::Zero();
-    Real base_separation = 0;
+  struct Point : detail::SolverPoint {
     Real substep_separation = 0;  // phi at the start of the current substep [m]
-    // Precomputed Jacobian rows, as in ContactSolver: r x d and I^-1 (r x d) per direction.
-    Vec3 rn_a = Vec3::Zero(), rn_b = Vec3::Zero();
-    Vec3 rt1_a = Vec3::Zero(), rt1_b = Vec3::Zero();
-    Vec3 rt2_a = Vec3::Zero(), rt2_b = Vec3::Zero();
-    Vec3 in_a = Vec3::Zero(), in_b = Vec3::Zero();
-    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
-    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
-    Real inv_mass_a = 0, inv_mass_b = 0;
-    Real normal_mass = 0;
-    Real tangent_mass1 = 0;
-    Real tangent_mass2 = 0;
-    Real friction = 0;
     Real stiffness = 0;
     Real damping = 0;
-    Real normal_impulse = 0;  // per substep [N s]
-    Real tangent_impulse1 = 0;
-    Real tangent_impulse2 = 0;
   };
   struct PairInfo {
     std::int32_t first_point = 0;
