@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -21,6 +22,63 @@
 namespace tumble::test {
 
 using BroadPhaseFactory = std::function<std::unique_ptr<BroadPhase>()>;
+
+// A cube of half side `half` around `centre`.
+inline Aabb cube(const Vec3& centre, Real half) {
+  return {centre - Vec3::Constant(half), centre + Vec3::Constant(half)};
+}
+
+// Compares pairs, 20 random box queries (half size up to probe_size * reach) and 20 random ray
+// casts with brute force. Returns the number of pairs.
+inline std::size_t expect_same(BroadPhase& tested, BruteForceBroadPhase& reference,
+                               std::uint64_t seed, Real reach, Real probe_size = 0.1) {
+  std::vector<ProxyPair> got, want;
+  tested.find_pairs(got);
+  reference.find_pairs(want);
+  EXPECT_EQ(got, want);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<Real> u(-reach, reach);
+  std::vector<std::int32_t> got_ids, want_ids;
+  for (int q = 0; q < 20; ++q) {
+    const Vec3 c(u(rng), u(rng), u(rng));
+    const Aabb probe = cube(c, std::abs(u(rng)) * probe_size);
+    tested.query(probe, got_ids);
+    reference.query(probe, want_ids);
+    EXPECT_EQ(got_ids, want_ids) << "query " << q;
+    const Vec3 d(u(rng), u(rng), u(rng));
+    tested.ray_cast(c, 2 * d, 1, got_ids);
+    reference.ray_cast(c, 2 * d, 1, want_ids);
+    EXPECT_EQ(got_ids, want_ids) << "ray " << q;
+  }
+  return want.size();
+}
+
+// Compares pairs, three fixed box queries (one an infinite slab) and three fixed ray casts with
+// brute force; `when` names the moment in the failure message.
+inline void expect_same(BroadPhase& tested, BruteForceBroadPhase& reference, const char* when) {
+  SCOPED_TRACE(when);
+  constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
+  std::vector<ProxyPair> got, want;
+  tested.find_pairs(got);
+  reference.find_pairs(want);
+  EXPECT_EQ(got, want);
+  std::vector<std::int32_t> gq, wq;
+  const Aabb probes[] = {cube(Vec3::Zero(), 3),
+                         cube(Vec3(5, -2, 1), 10),
+                         {Vec3(-kInfinity, -1, -1), Vec3(kInfinity, 1, 1)}};
+  for (const Aabb& p : probes) {
+    tested.query(p, gq);
+    reference.query(p, wq);
+    EXPECT_EQ(gq, wq);
+  }
+  const Vec3 origins[] = {Vec3(-20, 0.1, 0.2), Vec3(0, 0, 30), Vec3(3, 3, 3)};
+  const Vec3 dirs[] = {Vec3(40, 0, 0), Vec3(0.1, -0.2, -60), Vec3(-1, -1, -1)};
+  for (int i = 0; i < 3; ++i) {
+    tested.ray_cast(origins[i], dirs[i], 1, gq);
+    reference.ray_cast(origins[i], dirs[i], 1, wq);
+    EXPECT_EQ(gq, wq);
+  }
+}
 
 enum class Layout {
   uniform,          // boxes of similar size spread evenly

@@ -17,33 +17,6 @@ BroadPhaseFactory kd_tree(KdTreeOptions options = {}) {
   return [=] { return std::make_unique<KdTreeBroadPhase>(options); };
 }
 
-Aabb cube(const Vec3& c, Real h) {
-  return {c.array() - h, c.array() + h};
-}
-
-void expect_same(KdTreeBroadPhase& tree, BruteForceBroadPhase& ref, const char* when) {
-  SCOPED_TRACE(when);
-  std::vector<ProxyPair> got, want;
-  tree.find_pairs(got);
-  ref.find_pairs(want);
-  EXPECT_EQ(got, want);
-  std::vector<std::int32_t> gq, wq;
-  const Aabb probes[] = {
-      cube(Vec3::Zero(), 3), cube(Vec3(5, -2, 1), 10), {Vec3(-kInf, -1, -1), Vec3(kInf, 1, 1)}};
-  for (const Aabb& p : probes) {
-    tree.query(p, gq);
-    ref.query(p, wq);
-    EXPECT_EQ(gq, wq);
-  }
-  const Vec3 origins[] = {Vec3(-20, 0.1, 0.2), Vec3(0, 0, 30), Vec3(3, 3, 3)};
-  const Vec3 dirs[] = {Vec3(40, 0, 0), Vec3(0.1, -0.2, -60), Vec3(-1, -1, -1)};
-  for (int i = 0; i < 3; ++i) {
-    tree.ray_cast(origins[i], dirs[i], 1, gq);
-    ref.ray_cast(origins[i], dirs[i], 1, wq);
-    EXPECT_EQ(gq, wq);
-  }
-}
-
 TEST(KdTree, EqualsBruteForceEveryLayout) {
   check_every_layout(kd_tree());
 }

@@ -11,35 +11,6 @@ namespace {
 
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
-Aabb cube(const Vec3& centre, Real half) {
-  return {centre - Vec3::Constant(half), centre + Vec3::Constant(half)};
-}
-
-// Inserts the same boxes into the grid and brute force and compares pairs, a few box queries
-// and a few ray casts. Returns the number of pairs.
-std::size_t expect_same(BroadPhase& tested, BruteForceBroadPhase& reference, std::uint64_t seed,
-                        Real reach) {
-  std::vector<ProxyPair> got, want;
-  tested.find_pairs(got);
-  reference.find_pairs(want);
-  EXPECT_EQ(got, want);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<Real> u(-reach, reach);
-  std::vector<std::int32_t> got_ids, want_ids;
-  for (int q = 0; q < 20; ++q) {
-    const Vec3 c(u(rng), u(rng), u(rng));
-    const Aabb probe = cube(c, std::abs(u(rng)) * Real(0.1));
-    tested.query(probe, got_ids);
-    reference.query(probe, want_ids);
-    EXPECT_EQ(got_ids, want_ids) << "query " << q;
-    const Vec3 d(u(rng), u(rng), u(rng));
-    tested.ray_cast(c, 2 * d, 1, got_ids);
-    reference.ray_cast(c, 2 * d, 1, want_ids);
-    EXPECT_EQ(got_ids, want_ids) << "ray " << q;
-  }
-  return want.size();
-}
-
 TEST(UniformGrid, AgreesWithBruteForceInEveryLayout) {
   check_every_layout([] { return std::make_unique<UniformGridBroadPhase>(); });
 }
