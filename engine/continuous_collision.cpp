@@ -67,6 +67,21 @@ RigidMotion step_motion(const Transform& start, const BodyState& end, Real dt) {
   return RigidMotion::from_velocity(start, end.position - start.translation, turn);
 }
 
+// A box holding the shape at every time of the motion. Without turning the shape only
+// translates, and every translate lies in the box of the two end poses' boxes; a turning shape
+// stays within its bounding radius of its centre, which moves on a line (the linear kind).
+Aabb motion_box(const Shape& shape, const RigidMotion& m, Real radius) {
+  if (m.angular_velocity().squaredNorm() == 0) {
+    Aabb box = world_aabb(shape, m.start());
+    box.grow(world_aabb(shape, m.end()));
+    return box;
+  }
+  Aabb box;
+  box.grow(m.start().translation);
+  box.grow(m.end().translation);
+  return box.inflated(radius);
+}
+
 }  // namespace
 
 ContinuousCollision::ContinuousCollision(const Scene& scene) {
@@ -75,6 +90,10 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   radius_.resize(n);
   swept_.resize(n);
   earliest_.resize(n);
+  motions_.resize(n);
+  swept_boxes_.resize(n);
+  swept_list_.reserve(n);
+  found_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const BodyDesc& d = scene.bodies[i];
     thickness_[i] = thickness_of(d.shape);
@@ -86,79 +105,121 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
 
 ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
                                                    const std::vector<Transform>& start,
-                                                   const std::vector<ProxyPair>& candidates,
+                                                   const BroadPhase& broad_phase,
                                                    std::vector<BodyState>& bodies) {
   ContinuousCollisionCounts counts;
   const std::size_t n = bodies.size();
   const CcdMode mode = scene.world.ccd;
+  const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
+  swept_list_.clear();
+  // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
+  // phase covers its start pose, so that box grown by this covers its whole motion.
+  Real unswept_travel = 0;
   for (std::size_t i = 0; i < n; ++i) {
     swept_[i] = 0;
     earliest_[i] = 1;
     const BodyDesc& d = scene.bodies[i];
-    if (d.is_static || mode == CcdMode::off)
+    if (d.is_static) {
+      motions_[i] = RigidMotion::stationary(start[i]);
       continue;
-    const RigidMotion m = step_motion(start[i], bodies[i], scene.world.dt);
+    }
+    motions_[i] = step_motion(start[i], bodies[i], scene.world.dt);
+    const RigidMotion& m = motions_[i];
     const Real travel = m.centre_speed() + m.angular_velocity().norm() * radius_[i];
-    if (mode == CcdMode::on || d.fast || travel > kAutoSweepFraction * thickness_[i]) {
+    if (mode != CcdMode::off &&
+        (mode == CcdMode::on || d.fast || travel > kAutoSweepFraction * thickness_[i])) {
       swept_[i] = 1;
+      swept_list_.push_back(static_cast<std::int32_t>(i));
+      swept_boxes_[i] = motion_box(d.shape, m, radius_[i]).inflated(skin);
       ++counts.swept_bodies;
+    } else {
+      unswept_travel = std::max(unswept_travel, travel);
     }
   }
   if (counts.swept_bodies == 0)
     return counts;
 
-  // A pair apart at the start of the step is stopped a little before contact, within the next
-  // step's contact margin. A pair already touching (within the margin) is left to the discrete
-  // contacts unless it would sink deeper than half the thinner body's thickness, which only a
-  // body passing through does; one already deeper than that may sink by 2% of that thickness
-  // more per step (the solver pushes it out meanwhile), so it cannot creep through.
-  const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
-  ToiSettings apart;
-  apart.target_distance = Real(0.25) * skin;
-  apart.tolerance = Real(0.25) * skin;
-  apart.max_iterations = 32;
-  for (const ProxyPair& pair : candidates) {
-    const int ia = pair.a;
-    const int ib = pair.b;
-    if (!swept_[ia] && !swept_[ib])
-      continue;
-    const BodyDesc& a = scene.bodies[ia];
-    const BodyDesc& b = scene.bodies[ib];
-    const Real dt = scene.world.dt;
-    const RigidMotion ma = step_motion(start[ia], bodies[ia], dt);
-    const RigidMotion mb = step_motion(start[ib], bodies[ib], dt);
-    ++counts.toi_queries;
-    ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
-    if (r.status == ToiStatus::overlapping) {
-      const Real ta = a.shape.is_bounded() ? thickness_[ia] : thickness_[ib];
-      const Real tb = b.shape.is_bounded() ? thickness_[ib] : thickness_[ia];
-      const Real thinner = std::min(ta, tb);
-      ToiSettings touching = apart;
-      touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
-      touching.tolerance = Real(0.01) * thinner;
-      ++counts.toi_queries;
-      r = time_of_impact(a.shape, ma, b.shape, mb, touching);
-      if (r.status == ToiStatus::overlapping)
-        continue;  // cannot happen but for rounding: the target is below the start
+  // Swept against static and unswept bodies, through the broad phase. A swept body's own box
+  // and other swept bodies' boxes are there too (at their start poses): skipped, the sort below
+  // pairs swept bodies by their whole motion.
+  for (const std::int32_t s : swept_list_) {
+    broad_phase.query(swept_boxes_[s].inflated(unswept_travel), found_);
+    for (const std::int32_t other : found_) {
+      if (swept_[other])
+        continue;
+      ++counts.candidate_pairs;
+      test_pair(scene, std::min(s, other), std::max(s, other), counts);
     }
-    // A capped search still gives a time up to which the motion is safe.
-    if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
-      continue;
-    if (swept_[ia])
-      earliest_[ia] = std::min(earliest_[ia], r.time_of_impact);
-    if (swept_[ib])
-      earliest_[ib] = std::min(earliest_[ib], r.time_of_impact);
   }
+  // Swept against swept: sort and sweep on x (seed 4.1.2), ties by body index so the order is
+  // fixed; the times found do not depend on the order anyway (each body keeps the earliest).
+  std::sort(swept_list_.begin(), swept_list_.end(), [&](std::int32_t p, std::int32_t q) {
+    const Real xp = swept_boxes_[p].min.x();
+    const Real xq = swept_boxes_[q].min.x();
+    return xp < xq || (xp == xq && p < q);
+  });
+  for (std::size_t k = 0; k < swept_list_.size(); ++k) {
+    const std::int32_t p = swept_list_[k];
+    const Aabb& box = swept_boxes_[p];
+    for (std::size_t j = k + 1; j < swept_list_.size(); ++j) {
+      const std::int32_t q = swept_list_[j];
+      if (swept_boxes_[q].min.x() > box.max.x())
+        break;
+      if (!box.overlaps(swept_boxes_[q]))
+        continue;
+      ++counts.candidate_pairs;
+      test_pair(scene, std::min(p, q), std::max(p, q), counts);
+    }
+  }
+
   for (std::size_t i = 0; i < n; ++i) {
     if (!swept_[i] || earliest_[i] >= 1)
       continue;
-    const RigidMotion m = step_motion(start[i], bodies[i], scene.world.dt);
-    const Transform at = m.at(earliest_[i]);
+    const Transform at = motions_[i].at(earliest_[i]);
     bodies[i].position = at.translation;
     bodies[i].orientation = at.rotation;
     ++counts.stopped_bodies;
   }
   return counts;
+}
+
+// A pair apart at the start of the step is stopped a little before contact, within the next
+// step's contact margin. A pair already touching (within the margin) is left to the discrete
+// contacts unless it would sink deeper than half the thinner body's thickness, which only a body
+// passing through does; one already deeper than that may sink by 2% of that thickness more per
+// step (the solver pushes it out meanwhile), so it cannot creep through.
+void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
+                                    ContinuousCollisionCounts& counts) {
+  const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
+  ToiSettings apart;
+  apart.target_distance = Real(0.25) * skin;
+  apart.tolerance = Real(0.25) * skin;
+  apart.max_iterations = 32;
+  const BodyDesc& a = scene.bodies[ia];
+  const BodyDesc& b = scene.bodies[ib];
+  const RigidMotion& ma = motions_[ia];
+  const RigidMotion& mb = motions_[ib];
+  ++counts.toi_queries;
+  ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
+  if (r.status == ToiStatus::overlapping) {
+    const Real ta = a.shape.is_bounded() ? thickness_[ia] : thickness_[ib];
+    const Real tb = b.shape.is_bounded() ? thickness_[ib] : thickness_[ia];
+    const Real thinner = std::min(ta, tb);
+    ToiSettings touching = apart;
+    touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
+    touching.tolerance = Real(0.01) * thinner;
+    ++counts.toi_queries;
+    r = time_of_impact(a.shape, ma, b.shape, mb, touching);
+    if (r.status == ToiStatus::overlapping)
+      return;  // cannot happen but for rounding: the target is below the start
+  }
+  // A capped search still gives a time up to which the motion is safe.
+  if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
+    return;
+  if (swept_[ia])
+    earliest_[ia] = std::min(earliest_[ia], r.time_of_impact);
+  if (swept_[ib])
+    earliest_[ib] = std::min(earliest_[ib], r.time_of_impact);
 }
 
 }  // namespace tumble

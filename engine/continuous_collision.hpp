@@ -1,7 +1,13 @@
 // The continuous-collision stage of the step (design.md step 5; seed 4.3 and pitfall 2): bodies
 // that move far in a step are swept from their pose at the start of the step to their pose at
-// the end, against their broad-phase candidates, and a body that would meet one is stopped at
-// the first time of impact.
+// the end, and a body that would meet another is stopped at the first time of impact.
+//
+// Which pairs are tested: only swept bodies pay for sweeps. The discrete broad phase holds every
+// body's box at the start of the step, grown by at most the sweep threshold below (World's
+// bounds stage caps the speculative growth there, so a fast body does not pair with everything
+// along its path). Each swept body's box over its actual motion (start to end of the step) is
+// queried against that broad phase for static and unswept bodies, and the swept boxes are
+// sorted and swept against each other for pairs of swept bodies (both move).
 //
 // Which bodies are swept (the scene's `ccd`): `off` none; `on` every dynamic body; `auto` the
 // bodies marked `fast: true` and those whose surface moves more than kAutoSweepFraction of
@@ -20,6 +26,7 @@
 #include <vector>
 
 #include "collision/broad_phase.hpp"
+#include "collision/ccd/rigid_motion.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/scene.hpp"
 
@@ -29,9 +36,10 @@ namespace tumble {
 inline constexpr Real kAutoSweepFraction = Real(0.5);
 
 struct ContinuousCollisionCounts {
-  std::int64_t swept_bodies = 0;    // bodies swept this step
-  std::int64_t toi_queries = 0;     // time-of-impact queries run
-  std::int64_t stopped_bodies = 0;  // bodies moved back to a time of impact
+  std::int64_t swept_bodies = 0;     // bodies swept this step
+  std::int64_t candidate_pairs = 0;  // pairs with a swept body whose boxes overlap
+  std::int64_t toi_queries = 0;      // time-of-impact queries run
+  std::int64_t stopped_bodies = 0;   // bodies moved back to a time of impact
 };
 
 class ContinuousCollision {
@@ -41,19 +49,30 @@ class ContinuousCollision {
   // True when the scene can ever need the stage (`ccd` not off and some dynamic body).
   bool enabled() const { return enabled_; }
 
+  // How far the surface of `body` may move in a step before `auto` sweeps it [m]. A body that
+  // moves less is not swept, so the discrete stages must cover that much motion themselves;
+  // beyond it the sweep does, and the bounds stage needs to grow the body's box no further.
+  Real sweep_threshold(std::size_t body) const { return kAutoSweepFraction * thickness_[body]; }
+
   // `start` holds each body's pose at the start of the step, `bodies` the state after the
-  // position integration (changed in place for stopped bodies), `candidates` the step's
-  // broad-phase pairs (from bounds swept over the step). Allocates nothing once warmed up.
+  // position integration (changed in place for stopped bodies), `broad_phase` every body's box
+  // at the start of the step (grown by the bounds stage). Allocates nothing once warmed up.
   ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
-                                const std::vector<ProxyPair>& candidates,
-                                std::vector<BodyState>& bodies);
+                                const BroadPhase& broad_phase, std::vector<BodyState>& bodies);
 
  private:
+  void test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
+                 ContinuousCollisionCounts& counts);
+
   bool enabled_ = false;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
+  std::vector<RigidMotion> motions_;      // each body's motion over the step
+  std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
+  std::vector<std::int32_t> swept_list_;  // swept bodies, ascending, then sorted by box
+  std::vector<std::int32_t> found_;       // broad-phase query output
 };
 
 }  // namespace tumble
