@@ -138,6 +138,18 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
   }
   if (counts.swept_bodies == 0)
     return counts;
+  if (test_every_pair_) {
+    for (const std::int32_t s : swept_list_) {
+      for (std::int32_t other = 0; other < static_cast<std::int32_t>(n); ++other) {
+        if (other == s || (swept_[other] && other < s))
+          continue;  // a pair of swept bodies once
+        ++counts.candidate_pairs;
+        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+      }
+    }
+    stop_at_earliest_times(bodies, counts);
+    return counts;
+  }
 
   // Swept against static and unswept bodies, through the broad phase. A swept body's own box
   // and other swept bodies' boxes are there too (at their start poses): skipped, the sort below
@@ -172,7 +184,13 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     }
   }
 
-  for (std::size_t i = 0; i < n; ++i) {
+  stop_at_earliest_times(bodies, counts);
+  return counts;
+}
+
+void ContinuousCollision::stop_at_earliest_times(std::vector<BodyState>& bodies,
+                                                 ContinuousCollisionCounts& counts) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!swept_[i] || earliest_[i] >= 1)
       continue;
     const Transform at = motions_[i].at(earliest_[i]);
@@ -180,7 +198,6 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     bodies[i].orientation = at.rotation;
     ++counts.stopped_bodies;
   }
-  return counts;
 }
 
 // A pair apart at the start of the step is stopped a little before contact, within the next
