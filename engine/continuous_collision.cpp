@@ -94,6 +94,7 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   swept_boxes_.resize(n);
   swept_list_.reserve(n);
   found_.reserve(n);
+  entries_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const BodyDesc& d = scene.bodies[i];
     thickness_[i] = thickness_of(d.shape);
@@ -138,7 +139,17 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
   }
   if (counts.swept_bodies == 0)
     return counts;
-  if (test_every_pair_) {
+  PairSearch search = pair_search_;
+  if (search == PairSearch::automatic) {
+    // A broad-phase query costs about as much as sorting a few dozen boxes (a tree descent per
+    // swept body); once one body in kSortAllFraction is swept, one sort of every body's motion
+    // box is the cheaper way (measured on scenes/high_speed.yaml, docs/ccd.md).
+    search = counts.swept_bodies * kSortAllFraction >= static_cast<std::int64_t>(n)
+                 ? PairSearch::sort_all
+                 : PairSearch::broad_phase;
+  }
+  entries_.clear();
+  if (search == PairSearch::every_pair) {
     for (const std::int32_t s : swept_list_) {
       for (std::int32_t other = 0; other < static_cast<std::int32_t>(n); ++other) {
         if (other == s || (swept_[other] && other < s))
@@ -147,45 +158,71 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
         test_pair(scene, std::min(s, other), std::max(s, other), counts);
       }
     }
-    stop_at_earliest_times(bodies, counts);
-    return counts;
-  }
-
-  // Swept against static and unswept bodies, through the broad phase. A swept body's own box
-  // and other swept bodies' boxes are there too (at their start poses): skipped, the sort below
-  // pairs swept bodies by their whole motion.
-  for (const std::int32_t s : swept_list_) {
-    broad_phase.query(swept_boxes_[s].inflated(unswept_travel), found_);
-    for (const std::int32_t other : found_) {
-      if (swept_[other])
-        continue;
-      ++counts.candidate_pairs;
-      test_pair(scene, std::min(s, other), std::max(s, other), counts);
+  } else if (search == PairSearch::broad_phase) {
+    // Swept against static and unswept bodies, through the broad phase. A swept body's own box
+    // and other swept bodies' boxes are there too (at their start poses): skipped, the sort
+    // below pairs swept bodies by their whole motion.
+    for (const std::int32_t s : swept_list_) {
+      broad_phase.query(swept_boxes_[s].inflated(unswept_travel), found_);
+      for (const std::int32_t other : found_) {
+        if (swept_[other])
+          continue;
+        ++counts.candidate_pairs;
+        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+      }
+      entries_.push_back({swept_boxes_[s], s, 1});
     }
-  }
-  // Swept against swept: sort and sweep on x (seed 4.1.2), ties by body index so the order is
-  // fixed; the times found do not depend on the order anyway (each body keeps the earliest).
-  std::sort(swept_list_.begin(), swept_list_.end(), [&](std::int32_t p, std::int32_t q) {
-    const Real xp = swept_boxes_[p].min.x();
-    const Real xq = swept_boxes_[q].min.x();
-    return xp < xq || (xp == xq && p < q);
-  });
-  for (std::size_t k = 0; k < swept_list_.size(); ++k) {
-    const std::int32_t p = swept_list_[k];
-    const Aabb& box = swept_boxes_[p];
-    for (std::size_t j = k + 1; j < swept_list_.size(); ++j) {
-      const std::int32_t q = swept_list_[j];
-      if (swept_boxes_[q].min.x() > box.max.x())
-        break;
-      if (!box.overlaps(swept_boxes_[q]))
-        continue;
-      ++counts.candidate_pairs;
-      test_pair(scene, std::min(p, q), std::max(p, q), counts);
+    sort_and_sweep(scene, counts);
+  } else {
+    // Every bounded body's box over its own motion (a static body's box where it stands), so
+    // unswept bodies need no allowance for having moved; unbounded static shapes (planes) are
+    // tested against each swept body's box.
+    for (std::size_t i = 0; i < n; ++i) {
+      const BodyDesc& d = scene.bodies[i];
+      const std::int32_t id = static_cast<std::int32_t>(i);
+      if (swept_[i]) {
+        entries_.push_back({swept_boxes_[i], id, 1});
+      } else if (d.shape.is_bounded()) {
+        entries_.push_back({d.is_static ? world_aabb(d.shape, start[i])
+                                        : motion_box(d.shape, motions_[i], radius_[i]),
+                            id, 0});
+      } else {
+        const Aabb box = world_aabb(d.shape, start[i]);
+        for (const std::int32_t s : swept_list_) {
+          if (!box.overlaps(swept_boxes_[s]))
+            continue;
+          ++counts.candidate_pairs;
+          test_pair(scene, std::min(s, id), std::max(s, id), counts);
+        }
+      }
     }
+    sort_and_sweep(scene, counts);
   }
-
   stop_at_earliest_times(bodies, counts);
   return counts;
+}
+
+// Sort and sweep on x (seed 4.1.2) over entries_, testing the overlapping pairs with a swept
+// body. Ties sort by body index so the order is fixed; the times found do not depend on the order
+// anyway (each body keeps its earliest).
+void ContinuousCollision::sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts) {
+  std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
+    return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
+  });
+  const std::size_t count = entries_.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const SweepEntry& e = entries_[k];
+    const Real end = e.box.max.x();
+    for (std::size_t j = k + 1; j < count; ++j) {
+      const SweepEntry& f = entries_[j];
+      if (f.box.min.x() > end)
+        break;
+      if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
+        continue;
+      ++counts.candidate_pairs;
+      test_pair(scene, std::min(e.id, f.id), std::max(e.id, f.id), counts);
+    }
+  }
 }
 
 void ContinuousCollision::stop_at_earliest_times(std::vector<BodyState>& bodies,

@@ -35,6 +35,10 @@ namespace tumble {
 // `auto` sweeps a body whose surface moves more than this fraction of its thickness in a step.
 inline constexpr Real kAutoSweepFraction = Real(0.5);
 
+// Pairs with a swept body are found by sorting every body's motion box once one body in this
+// many is swept, else by a broad-phase query per swept body.
+inline constexpr std::int64_t kSortAllFraction = 8;
+
 struct ContinuousCollisionCounts {
   std::int64_t swept_bodies = 0;     // bodies swept this step
   std::int64_t candidate_pairs = 0;  // pairs with a swept body whose boxes overlap
@@ -60,18 +64,25 @@ class ContinuousCollision {
   ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
                                 const BroadPhase& broad_phase, std::vector<BodyState>& bodies);
 
-  // For tests: test every pair with a swept body, without the boxes. The result must be
-  // bit-identical, since a pair whose boxes are apart can never come within the stop distance.
-  void set_test_every_pair(bool every) { test_every_pair_ = every; }
+  // How the pairs with a swept body are found. Every way gives bit-identical results (a pair
+  // whose boxes are apart can never come within the stop distance); tests compare them.
+  enum class PairSearch : std::uint8_t {
+    automatic,    // sort_all when one body in kSortAllFraction or more is swept, else broad_phase
+    broad_phase,  // each swept body queries the broad phase; swept bodies sorted among themselves
+    sort_all,     // the motion boxes of all bodies sorted and swept on one axis at once
+    every_pair,   // no pruning: every pair with a swept body is tested
+  };
+  void set_pair_search(PairSearch search) { pair_search_ = search; }
 
  private:
   void test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
                  ContinuousCollisionCounts& counts);
+  void sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts);
   void stop_at_earliest_times(std::vector<BodyState>& bodies,
                               ContinuousCollisionCounts& counts) const;
 
   bool enabled_ = false;
-  bool test_every_pair_ = false;
+  PairSearch pair_search_ = PairSearch::automatic;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
   std::vector<std::uint8_t> swept_;
@@ -80,6 +91,12 @@ class ContinuousCollision {
   std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
   std::vector<std::int32_t> swept_list_;  // swept bodies, ascending, then sorted by box
   std::vector<std::int32_t> found_;       // broad-phase query output
+  struct SweepEntry {
+    Aabb box;
+    std::int32_t id = 0;
+    std::uint8_t swept = 0;
+  };
+  std::vector<SweepEntry> entries_;  // boxes to sort and sweep
 };
 
 }  // namespace tumble

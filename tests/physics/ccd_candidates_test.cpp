@@ -132,8 +132,8 @@ RandomCase make_case(std::mt19937_64& rng, CcdMode mode) {
 // are the start poses' boxes grown by random margins (as the bounds stage grows them, by at
 // least half the contact margin).
 void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, std::mt19937_64& rng,
-                                    std::int64_t& pruned_pairs, std::int64_t& all_pairs,
-                                    std::int64_t& stops) {
+                                    std::int64_t& queried_pairs, std::int64_t& sorted_pairs,
+                                    std::int64_t& all_pairs, std::int64_t& stops) {
   std::uniform_real_distribution<Real> unit(0, 1);
   auto broad_phase = make_broad_phase(type);
   for (std::size_t i = 0; i < c.scene.bodies.size(); ++i) {
@@ -145,26 +145,32 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
   std::vector<ProxyPair> pairs;
   broad_phase->find_pairs(pairs);  // some structures settle their boxes here
 
-  ContinuousCollision pruned(c.scene);
-  std::vector<BodyState> with_pruning = c.end;
-  const ContinuousCollisionCounts a = pruned.run(c.scene, c.start, *broad_phase, with_pruning);
-
   ContinuousCollision every(c.scene);
-  every.set_test_every_pair(true);
+  every.set_pair_search(ContinuousCollision::PairSearch::every_pair);
   std::vector<BodyState> with_every_pair = c.end;
   const ContinuousCollisionCounts b = every.run(c.scene, c.start, *broad_phase, with_every_pair);
-
-  EXPECT_EQ(a.swept_bodies, b.swept_bodies);
-  EXPECT_EQ(a.stopped_bodies, b.stopped_bodies);
-  for (std::size_t i = 0; i < c.end.size(); ++i) {
-    EXPECT_TRUE(with_pruning[i].position == with_every_pair[i].position &&
-                with_pruning[i].orientation.coeffs() == with_every_pair[i].orientation.coeffs())
-        << "body " << i << " pruned " << with_pruning[i].position.transpose() << " every pair "
-        << with_every_pair[i].position.transpose();
-  }
-  pruned_pairs += a.candidate_pairs;
   all_pairs += b.candidate_pairs;
   stops += b.stopped_bodies;
+
+  for (const auto search :
+       {ContinuousCollision::PairSearch::broad_phase, ContinuousCollision::PairSearch::sort_all}) {
+    ContinuousCollision pruned(c.scene);
+    pruned.set_pair_search(search);
+    std::vector<BodyState> with_pruning = c.end;
+    const ContinuousCollisionCounts a = pruned.run(c.scene, c.start, *broad_phase, with_pruning);
+    const char* name =
+        search == ContinuousCollision::PairSearch::sort_all ? "sort_all" : "broad_phase";
+    EXPECT_EQ(a.swept_bodies, b.swept_bodies) << name;
+    EXPECT_EQ(a.stopped_bodies, b.stopped_bodies) << name;
+    for (std::size_t i = 0; i < c.end.size(); ++i) {
+      EXPECT_TRUE(with_pruning[i].position == with_every_pair[i].position &&
+                  with_pruning[i].orientation.coeffs() == with_every_pair[i].orientation.coeffs())
+          << name << ": body " << i << " pruned " << with_pruning[i].position.transpose()
+          << " every pair " << with_every_pair[i].position.transpose();
+    }
+    (search == ContinuousCollision::PairSearch::sort_all ? sorted_pairs : queried_pairs) +=
+        a.candidate_pairs;
+  }
 }
 
 TEST(CcdCandidates, PruningByMotionBoxesGivesTheSamePosesAsTestingEveryPair) {
@@ -172,21 +178,25 @@ TEST(CcdCandidates, PruningByMotionBoxesGivesTheSamePosesAsTestingEveryPair) {
   const int cases = scaled(1500);
   const BroadPhaseType types[] = {BroadPhaseType::kdtree, BroadPhaseType::bvh, BroadPhaseType::sap,
                                   BroadPhaseType::brute};
-  std::int64_t pruned = 0;
+  std::int64_t queried = 0;
+  std::int64_t sorted = 0;
   std::int64_t all = 0;
   std::int64_t stops = 0;
   for (int k = 0; k < cases; ++k) {
     const CcdMode mode = k % 3 == 0 ? CcdMode::on : CcdMode::automatic;
     const RandomCase c = make_case(rng, mode);
-    expect_pruning_changes_nothing(c, types[k % 4], rng, pruned, all, stops);
+    expect_pruning_changes_nothing(c, types[k % 4], rng, queried, sorted, all, stops);
     if (HasFailure())
       return;
   }
-  std::printf("%d random cases: %lld pairs tested with pruning, %lld without, %lld stops\n", cases,
-              static_cast<long long>(pruned), static_cast<long long>(all),
-              static_cast<long long>(stops));
+  std::printf(
+      "%d random cases: pairs tested %lld through the broad phase, %lld sorting all, %lld "
+      "without pruning; %lld stops\n",
+      cases, static_cast<long long>(queried), static_cast<long long>(sorted),
+      static_cast<long long>(all), static_cast<long long>(stops));
   EXPECT_GT(stops, cases / 4);  // the cases do hit things
-  EXPECT_LT(pruned, all);       // and the pruning prunes
+  EXPECT_LT(queried, all);      // and both searches prune
+  EXPECT_LT(sorted, all);
 }
 
 BodyDesc centimetre_sphere(const Vec3& position, const Vec3& velocity) {
