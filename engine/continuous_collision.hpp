@@ -5,9 +5,10 @@
 // Which pairs are tested: only swept bodies pay for sweeps. The discrete broad phase holds every
 // body's box at the start of the step, grown by at most the sweep threshold below (World's
 // bounds stage caps the speculative growth there, so a fast body does not pair with everything
-// along its path). Each swept body's box over its actual motion (start to end of the step) is
-// queried against that broad phase for static and unswept bodies, and the swept boxes are
-// sorted and swept against each other for pairs of swept bodies (both move).
+// along its path). The sweep finds its pairs from boxes over each body's actual motion (start
+// to end of the step): with many swept bodies one sort and sweep of all bodies' motion boxes;
+// with few, each swept body's motion box queries the broad phase for static and unswept bodies,
+// and the swept bodies are sorted and swept among themselves (both move). docs/ccd.md.
 //
 // Which bodies are swept (the scene's `ccd`): `off` none; `on` every dynamic body; `auto` the
 // bodies marked `fast: true` and those whose surface moves more than kAutoSweepFraction of
@@ -89,7 +90,7 @@ class ContinuousCollision {
   std::vector<Real> earliest_;
   std::vector<RigidMotion> motions_;      // each body's motion over the step
   std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
-  std::vector<std::int32_t> swept_list_;  // swept bodies, ascending, then sorted by box
+  std::vector<std::int32_t> swept_list_;  // swept bodies, ascending
   std::vector<std::int32_t> found_;       // broad-phase query output
   struct SweepEntry {
     Aabb box;
