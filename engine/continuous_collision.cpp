@@ -67,6 +67,21 @@ RigidMotion step_motion(const Transform& start, const BodyState& end, Real dt) {
   return RigidMotion::from_velocity(start, end.position - start.translation, turn);
 }
 
+// A box holding the shape at every time of the motion. Without turning the shape only
+// translates, and every translate lies in the box of the two end poses' boxes; a turning shape
+// stays within its bounding radius of its centre, which moves on a line (the linear kind).
+Aabb motion_box(const Shape& shape, const RigidMotion& m, Real radius) {
+  if (m.angular_velocity().squaredNorm() == 0) {
+    Aabb box = world_aabb(shape, m.start());
+    box.grow(world_aabb(shape, m.end()));
+    return box;
+  }
+  Aabb box;
+  box.grow(m.start().translation);
+  box.grow(m.end().translation);
+  return box.inflated(radius);
+}
+
 }  // namespace
 
 ContinuousCollision::ContinuousCollision(const Scene& scene) {
@@ -75,6 +90,11 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   radius_.resize(n);
   swept_.resize(n);
   earliest_.resize(n);
+  motions_.resize(n);
+  swept_boxes_.resize(n);
+  swept_list_.reserve(n);
+  found_.reserve(n);
+  entries_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const BodyDesc& d = scene.bodies[i];
     thickness_[i] = thickness_of(d.shape);
@@ -86,79 +106,174 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
 
 ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
                                                    const std::vector<Transform>& start,
-                                                   const std::vector<ProxyPair>& candidates,
+                                                   const BroadPhase& broad_phase,
                                                    std::vector<BodyState>& bodies) {
   ContinuousCollisionCounts counts;
   const std::size_t n = bodies.size();
   const CcdMode mode = scene.world.ccd;
+  const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
+  swept_list_.clear();
+  // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
+  // phase covers its start pose, so that box grown by this covers its whole motion.
+  Real unswept_travel = 0;
   for (std::size_t i = 0; i < n; ++i) {
     swept_[i] = 0;
     earliest_[i] = 1;
     const BodyDesc& d = scene.bodies[i];
-    if (d.is_static || mode == CcdMode::off)
+    if (d.is_static) {
+      motions_[i] = RigidMotion::stationary(start[i]);
       continue;
-    const RigidMotion m = step_motion(start[i], bodies[i], scene.world.dt);
+    }
+    motions_[i] = step_motion(start[i], bodies[i], scene.world.dt);
+    const RigidMotion& m = motions_[i];
     const Real travel = m.centre_speed() + m.angular_velocity().norm() * radius_[i];
-    if (mode == CcdMode::on || d.fast || travel > kAutoSweepFraction * thickness_[i]) {
+    if (mode != CcdMode::off &&
+        (mode == CcdMode::on || d.fast || travel > kAutoSweepFraction * thickness_[i])) {
       swept_[i] = 1;
+      swept_list_.push_back(static_cast<std::int32_t>(i));
+      swept_boxes_[i] = motion_box(d.shape, m, radius_[i]).inflated(skin);
       ++counts.swept_bodies;
+    } else {
+      unswept_travel = std::max(unswept_travel, travel);
     }
   }
   if (counts.swept_bodies == 0)
     return counts;
+  PairSearch search = pair_search_;
+  if (search == PairSearch::automatic) {
+    // A broad-phase query costs about as much as sorting a few dozen boxes (a tree descent per
+    // swept body); once one body in kSortAllFraction is swept, one sort of every body's motion
+    // box is the cheaper way (measured on scenes/high_speed.yaml, docs/ccd.md).
+    search = counts.swept_bodies * kSortAllFraction >= static_cast<std::int64_t>(n)
+                 ? PairSearch::sort_all
+                 : PairSearch::broad_phase;
+  }
+  entries_.clear();
+  if (search == PairSearch::every_pair) {
+    for (const std::int32_t s : swept_list_) {
+      for (std::int32_t other = 0; other < static_cast<std::int32_t>(n); ++other) {
+        if (other == s || (swept_[other] && other < s))
+          continue;  // a pair of swept bodies once
+        ++counts.candidate_pairs;
+        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+      }
+    }
+  } else if (search == PairSearch::broad_phase) {
+    // Swept against static and unswept bodies, through the broad phase. A swept body's own box
+    // and other swept bodies' boxes are there too (at their start poses): skipped, the sort
+    // below pairs swept bodies by their whole motion.
+    for (const std::int32_t s : swept_list_) {
+      broad_phase.query(swept_boxes_[s].inflated(unswept_travel), found_);
+      for (const std::int32_t other : found_) {
+        if (swept_[other])
+          continue;
+        ++counts.candidate_pairs;
+        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+      }
+      entries_.push_back({swept_boxes_[s], s, 1});
+    }
+    sort_and_sweep(scene, counts);
+  } else {
+    // Every bounded body's box over its own motion (a static body's box where it stands), so
+    // unswept bodies need no allowance for having moved; unbounded static shapes (planes) are
+    // tested against each swept body's box.
+    for (std::size_t i = 0; i < n; ++i) {
+      const BodyDesc& d = scene.bodies[i];
+      const std::int32_t id = static_cast<std::int32_t>(i);
+      if (swept_[i]) {
+        entries_.push_back({swept_boxes_[i], id, 1});
+      } else if (d.shape.is_bounded()) {
+        entries_.push_back({d.is_static ? world_aabb(d.shape, start[i])
+                                        : motion_box(d.shape, motions_[i], radius_[i]),
+                            id, 0});
+      } else {
+        const Aabb box = world_aabb(d.shape, start[i]);
+        for (const std::int32_t s : swept_list_) {
+          if (!box.overlaps(swept_boxes_[s]))
+            continue;
+          ++counts.candidate_pairs;
+          test_pair(scene, std::min(s, id), std::max(s, id), counts);
+        }
+      }
+    }
+    sort_and_sweep(scene, counts);
+  }
+  stop_at_earliest_times(bodies, counts);
+  return counts;
+}
 
-  // A pair apart at the start of the step is stopped a little before contact, within the next
-  // step's contact margin. A pair already touching (within the margin) is left to the discrete
-  // contacts unless it would sink deeper than half the thinner body's thickness, which only a
-  // body passing through does; one already deeper than that may sink by 2% of that thickness
-  // more per step (the solver pushes it out meanwhile), so it cannot creep through.
+// Sort and sweep on x (seed 4.1.2) over entries_, testing the overlapping pairs with a swept
+// body. Ties sort by body index so the order is fixed; the times found do not depend on the order
+// anyway (each body keeps its earliest).
+void ContinuousCollision::sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts) {
+  std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
+    return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
+  });
+  const std::size_t count = entries_.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const SweepEntry& e = entries_[k];
+    const Real end = e.box.max.x();
+    for (std::size_t j = k + 1; j < count; ++j) {
+      const SweepEntry& f = entries_[j];
+      if (f.box.min.x() > end)
+        break;
+      if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
+        continue;
+      ++counts.candidate_pairs;
+      test_pair(scene, std::min(e.id, f.id), std::max(e.id, f.id), counts);
+    }
+  }
+}
+
+void ContinuousCollision::stop_at_earliest_times(std::vector<BodyState>& bodies,
+                                                 ContinuousCollisionCounts& counts) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!swept_[i] || earliest_[i] >= 1)
+      continue;
+    const Transform at = motions_[i].at(earliest_[i]);
+    bodies[i].position = at.translation;
+    bodies[i].orientation = at.rotation;
+    ++counts.stopped_bodies;
+  }
+}
+
+// A pair apart at the start of the step is stopped a little before contact, within the next
+// step's contact margin. A pair already touching (within the margin) is left to the discrete
+// contacts unless it would sink deeper than half the thinner body's thickness, which only a body
+// passing through does; one already deeper than that may sink by 2% of that thickness more per
+// step (the solver pushes it out meanwhile), so it cannot creep through.
+void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
+                                    ContinuousCollisionCounts& counts) {
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   ToiSettings apart;
   apart.target_distance = Real(0.25) * skin;
   apart.tolerance = Real(0.25) * skin;
   apart.max_iterations = 32;
-  for (const ProxyPair& pair : candidates) {
-    const int ia = pair.a;
-    const int ib = pair.b;
-    if (!swept_[ia] && !swept_[ib])
-      continue;
-    const BodyDesc& a = scene.bodies[ia];
-    const BodyDesc& b = scene.bodies[ib];
-    const Real dt = scene.world.dt;
-    const RigidMotion ma = step_motion(start[ia], bodies[ia], dt);
-    const RigidMotion mb = step_motion(start[ib], bodies[ib], dt);
+  const BodyDesc& a = scene.bodies[ia];
+  const BodyDesc& b = scene.bodies[ib];
+  const RigidMotion& ma = motions_[ia];
+  const RigidMotion& mb = motions_[ib];
+  ++counts.toi_queries;
+  ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
+  if (r.status == ToiStatus::overlapping) {
+    const Real ta = a.shape.is_bounded() ? thickness_[ia] : thickness_[ib];
+    const Real tb = b.shape.is_bounded() ? thickness_[ib] : thickness_[ia];
+    const Real thinner = std::min(ta, tb);
+    ToiSettings touching = apart;
+    touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
+    touching.tolerance = Real(0.01) * thinner;
     ++counts.toi_queries;
-    ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
-    if (r.status == ToiStatus::overlapping) {
-      const Real ta = a.shape.is_bounded() ? thickness_[ia] : thickness_[ib];
-      const Real tb = b.shape.is_bounded() ? thickness_[ib] : thickness_[ia];
-      const Real thinner = std::min(ta, tb);
-      ToiSettings touching = apart;
-      touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
-      touching.tolerance = Real(0.01) * thinner;
-      ++counts.toi_queries;
-      r = time_of_impact(a.shape, ma, b.shape, mb, touching);
-      if (r.status == ToiStatus::overlapping)
-        continue;  // cannot happen but for rounding: the target is below the start
-    }
-    // A capped search still gives a time up to which the motion is safe.
-    if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
-      continue;
-    if (swept_[ia])
-      earliest_[ia] = std::min(earliest_[ia], r.time_of_impact);
-    if (swept_[ib])
-      earliest_[ib] = std::min(earliest_[ib], r.time_of_impact);
+    r = time_of_impact(a.shape, ma, b.shape, mb, touching);
+    if (r.status == ToiStatus::overlapping)
+      return;  // cannot happen but for rounding: the target is below the start
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!swept_[i] || earliest_[i] >= 1)
-      continue;
-    const RigidMotion m = step_motion(start[i], bodies[i], scene.world.dt);
-    const Transform at = m.at(earliest_[i]);
-    bodies[i].position = at.translation;
-    bodies[i].orientation = at.rotation;
-    ++counts.stopped_bodies;
-  }
-  return counts;
+  // A capped search still gives a time up to which the motion is safe.
+  if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
+    return;
+  if (swept_[ia])
+    earliest_[ia] = std::min(earliest_[ia], r.time_of_impact);
+  if (swept_[ib])
+    earliest_[ib] = std::min(earliest_[ib], r.time_of_impact);
 }
 
 }  // namespace tumble

@@ -1,7 +1,14 @@
 // The continuous-collision stage of the step (design.md step 5; seed 4.3 and pitfall 2): bodies
 // that move far in a step are swept from their pose at the start of the step to their pose at
-// the end, against their broad-phase candidates, and a body that would meet one is stopped at
-// the first time of impact.
+// the end, and a body that would meet another is stopped at the first time of impact.
+//
+// Which pairs are tested: only swept bodies pay for sweeps. The discrete broad phase holds every
+// body's box at the start of the step, grown by at most the sweep threshold below (World's
+// bounds stage caps the speculative growth there, so a fast body does not pair with everything
+// along its path). The sweep finds its pairs from boxes over each body's actual motion (start
+// to end of the step): with many swept bodies one sort and sweep of all bodies' motion boxes;
+// with few, each swept body's motion box queries the broad phase for static and unswept bodies,
+// and the swept bodies are sorted and swept among themselves (both move). docs/ccd.md.
 //
 // Which bodies are swept (the scene's `ccd`): `off` none; `on` every dynamic body; `auto` the
 // bodies marked `fast: true` and those whose surface moves more than kAutoSweepFraction of
@@ -20,6 +27,7 @@
 #include <vector>
 
 #include "collision/broad_phase.hpp"
+#include "collision/ccd/rigid_motion.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/scene.hpp"
 
@@ -28,10 +36,15 @@ namespace tumble {
 // `auto` sweeps a body whose surface moves more than this fraction of its thickness in a step.
 inline constexpr Real kAutoSweepFraction = Real(0.5);
 
+// Pairs with a swept body are found by sorting every body's motion box once one body in this
+// many is swept, else by a broad-phase query per swept body.
+inline constexpr std::int64_t kSortAllFraction = 8;
+
 struct ContinuousCollisionCounts {
-  std::int64_t swept_bodies = 0;    // bodies swept this step
-  std::int64_t toi_queries = 0;     // time-of-impact queries run
-  std::int64_t stopped_bodies = 0;  // bodies moved back to a time of impact
+  std::int64_t swept_bodies = 0;     // bodies swept this step
+  std::int64_t candidate_pairs = 0;  // pairs with a swept body whose boxes overlap
+  std::int64_t toi_queries = 0;      // time-of-impact queries run
+  std::int64_t stopped_bodies = 0;   // bodies moved back to a time of impact
 };
 
 class ContinuousCollision {
@@ -41,19 +54,50 @@ class ContinuousCollision {
   // True when the scene can ever need the stage (`ccd` not off and some dynamic body).
   bool enabled() const { return enabled_; }
 
+  // How far the surface of `body` may move in a step before `auto` sweeps it [m]. A body that
+  // moves less is not swept, so the discrete stages must cover that much motion themselves;
+  // beyond it the sweep does, and the bounds stage needs to grow the body's box no further.
+  Real sweep_threshold(std::size_t body) const { return kAutoSweepFraction * thickness_[body]; }
+
   // `start` holds each body's pose at the start of the step, `bodies` the state after the
-  // position integration (changed in place for stopped bodies), `candidates` the step's
-  // broad-phase pairs (from bounds swept over the step). Allocates nothing once warmed up.
+  // position integration (changed in place for stopped bodies), `broad_phase` every body's box
+  // at the start of the step (grown by the bounds stage). Allocates nothing once warmed up.
   ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
-                                const std::vector<ProxyPair>& candidates,
-                                std::vector<BodyState>& bodies);
+                                const BroadPhase& broad_phase, std::vector<BodyState>& bodies);
+
+  // How the pairs with a swept body are found. Every way gives bit-identical results (a pair
+  // whose boxes are apart can never come within the stop distance); tests compare them.
+  enum class PairSearch : std::uint8_t {
+    automatic,    // sort_all when one body in kSortAllFraction or more is swept, else broad_phase
+    broad_phase,  // each swept body queries the broad phase; swept bodies sorted among themselves
+    sort_all,     // the motion boxes of all bodies sorted and swept on one axis at once
+    every_pair,   // no pruning: every pair with a swept body is tested
+  };
+  void set_pair_search(PairSearch search) { pair_search_ = search; }
 
  private:
+  void test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
+                 ContinuousCollisionCounts& counts);
+  void sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts);
+  void stop_at_earliest_times(std::vector<BodyState>& bodies,
+                              ContinuousCollisionCounts& counts) const;
+
   bool enabled_ = false;
+  PairSearch pair_search_ = PairSearch::automatic;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
+  std::vector<RigidMotion> motions_;      // each body's motion over the step
+  std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
+  std::vector<std::int32_t> swept_list_;  // swept bodies, ascending
+  std::vector<std::int32_t> found_;       // broad-phase query output
+  struct SweepEntry {
+    Aabb box;
+    std::int32_t id = 0;
+    std::uint8_t swept = 0;
+  };
+  std::vector<SweepEntry> entries_;  // boxes to sort and sweep
 };
 
 }  // namespace tumble

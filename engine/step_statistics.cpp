@@ -33,6 +33,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   solver_iterations += o.solver_iterations;
   swept_bodies += o.swept_bodies;
   stopped_bodies += o.stopped_bodies;
+  ccd_candidate_pairs += o.ccd_candidate_pairs;
   state_hash = o.state_hash;  // the latest step's
 }
 
