@@ -48,6 +48,8 @@ struct PolytopeView {
   std::span<const HullFace> faces;
   std::span<const HullEdge> edges;
   const ConvexHull* hull = nullptr;  // big hulls climb the vertex graph for supports
+  bool is_box = false;               // a box: two boxes use the closed-form axes
+  Vec3 half_extents = Vec3::Zero();
 
   // max over vertices of direction . vertex (local frame).
   Real support(const Vec3& direction) const {
@@ -61,7 +63,7 @@ struct PolytopeView {
 };
 
 PolytopeView hull_view(const ConvexHull& hull) {
-  return {hull.vertices(), hull.faces(), hull.edges(), &hull};
+  return {hull.vertices(), hull.faces(), hull.edges(), &hull, false, Vec3::Zero()};
 }
 
 // A box as a polytope, on the stack: vertex k has the sign of axis i in bit i of k, face
@@ -94,7 +96,15 @@ class BoxPolytope {
       }
     }
   }
-  PolytopeView view() const { return {vertices_, faces_, edges_, nullptr}; }
+  PolytopeView view() const {
+    return {vertices_,
+            faces_,
+            edges_,
+            nullptr,
+            true,
+            faces_[1].offset * Vec3::UnitX() + faces_[3].offset * Vec3::UnitY() +
+                faces_[5].offset * Vec3::UnitZ()};
+  }
 
  private:
   std::array<Vec3, 8> vertices_{};
@@ -129,12 +139,54 @@ RelativePose relative_pose(const Transform& a, const Transform& b) {
           a.rotate_inverse(b.translation - a.translation)};
 }
 
+// Two boxes: the 15 axes of the box-box test (Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH
+// 1996), each with its projected radii in closed form and visited in both directions: the same
+// axes as the general code below (a box's opposite faces share one axis), at about the cost of
+// box_box_separation.
+template <class Visit>
+bool for_each_box_axis(const Vec3& ha, const Vec3& hb, const RelativePose& pose, Visit&& visit) {
+  const Mat3& r = pose.rotation;
+  const Vec3 d = -pose.offset;  // from B's centre to A's (A's frame)
+  auto axis = [&](Vec3 l) {
+    const Real length = l.norm();
+    if (!(length > kParallelSine))
+      return true;  // parallel edges: the face axes cover this direction
+    l /= length;
+    const Real radius_a =
+        ha.x() * std::abs(l.x()) + ha.y() * std::abs(l.y()) + ha.z() * std::abs(l.z());
+    const Real radius_b = hb.x() * std::abs(l.dot(r.col(0))) + hb.y() * std::abs(l.dot(r.col(1))) +
+                          hb.z() * std::abs(l.dot(r.col(2)));
+    const Real centre = l.dot(d);
+    const Real reach = radius_a + radius_b;
+    // Both sides: the far side's gap is negative now but opens when the boxes pass each other
+    // (an exit time of the translating test).
+    return visit(l, centre - reach) && visit(Vec3(-l), -centre - reach);
+  };
+  for (int i = 0; i < 3; ++i) {
+    if (!axis(Vec3::Unit(i)) || !axis(r.col(i)))
+      return false;
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!axis(Vec3::Unit(i).cross(r.col(j))))
+        return false;
+    }
+  }
+  return true;
+}
+
+// B's face normals on the Gauss map of -B are kept in a stack buffer up to this many faces;
+// bigger hulls turn them again where needed (no heap allocation either way).
+constexpr std::size_t kBufferedFaces = 256;
+
 // Calls visit(axis, gap) for every candidate axis (unit, A's frame, pointing from B to A) with
 // the gap along it: min over A of axis . x minus max over B of axis . x (> 0: apart along it).
 // Stops as soon as visit returns false, and then returns false.
 template <class Visit>
 bool for_each_axis(const PolytopeView& a, const PolytopeView& b, const RelativePose& pose,
                    Visit&& visit) {
+  if (a.is_box && b.is_box)
+    return for_each_box_axis(a.half_extents, b.half_extents, pose, visit);
   const Mat3& r = pose.rotation;
   const Vec3& p = pose.offset;
   const Mat3 rt = r.transpose();
@@ -155,38 +207,50 @@ bool for_each_axis(const PolytopeView& a, const PolytopeView& b, const RelativeP
   // the arc between its face normals (na0, na1) and the edge of -B the arc between its negated
   // face normals (c, d) = (-nb0, -nb1); they cross when c and d lie on both sides of the plane
   // of (na0, na1), na0 and na1 on both sides of the plane of (c, d), and both arcs lie in the
-  // same hemisphere (Gregorius 2013).
-  for (const HullEdge& eb : b.edges) {
-    const Vec3 c = -(r * b.faces[std::size_t(eb.face[0])].normal);
-    const Vec3 d = -(r * b.faces[std::size_t(eb.face[1])].normal);
-    const Vec3& b0_local = b.vertices[std::size_t(eb.vertex[0])];
-    const Vec3 b0 = r * b0_local + p;
-    const Vec3 direction_b = r * (b.vertices[std::size_t(eb.vertex[1])] - b0_local);
-    const Real length_b = direction_b.norm();
-    const Vec3 dxc = d.cross(c);
-    for (const HullEdge& ea : a.edges) {
-      const Vec3& na0 = a.faces[std::size_t(ea.face[0])].normal;
-      const Vec3& na1 = a.faces[std::size_t(ea.face[1])].normal;
-      const Vec3 bxa = na1.cross(na0);
-      const Real cba = c.dot(bxa);
-      const Real dba = d.dot(bxa);
+  // same hemisphere (Gregorius 2013). The first test rejects most pairs; for one edge of A it
+  // needs only the side of each face normal of B, computed once per face.
+  const std::size_t faces_b = b.faces.size();
+  const bool buffered = faces_b <= kBufferedFaces;
+  std::array<Vec3, kBufferedFaces> gauss_b;
+  std::array<Real, kBufferedFaces> side_b;
+  if (buffered) {
+    for (std::size_t f = 0; f < faces_b; ++f)
+      gauss_b[f] = -(r * b.faces[f].normal);
+  }
+  auto gauss = [&](int f) {
+    return buffered ? gauss_b[std::size_t(f)] : Vec3(-(r * b.faces[std::size_t(f)].normal));
+  };
+  for (const HullEdge& ea : a.edges) {
+    const Vec3& na0 = a.faces[std::size_t(ea.face[0])].normal;
+    const Vec3& na1 = a.faces[std::size_t(ea.face[1])].normal;
+    const Vec3 bxa = na1.cross(na0);
+    if (buffered) {
+      for (std::size_t f = 0; f < faces_b; ++f)
+        side_b[f] = gauss_b[f].dot(bxa);
+    }
+    const Vec3& a0 = a.vertices[std::size_t(ea.vertex[0])];
+    const Vec3 direction_a = a.vertices[std::size_t(ea.vertex[1])] - a0;
+    for (const HullEdge& eb : b.edges) {
+      const Real cba = buffered ? side_b[std::size_t(eb.face[0])] : gauss(eb.face[0]).dot(bxa);
+      const Real dba = buffered ? side_b[std::size_t(eb.face[1])] : gauss(eb.face[1]).dot(bxa);
       if (!(cba * dba < 0))
         continue;
+      const Vec3 dxc = gauss(eb.face[1]).cross(gauss(eb.face[0]));
       const Real adc = na0.dot(dxc);
       const Real bdc = na1.dot(dxc);
       if (!(adc * bdc < 0) || !(cba * bdc > 0))
         continue;
-      const Vec3& a0 = a.vertices[std::size_t(ea.vertex[0])];
-      const Vec3 direction_a = a.vertices[std::size_t(ea.vertex[1])] - a0;
+      const Vec3& b0_local = b.vertices[std::size_t(eb.vertex[0])];
+      const Vec3 direction_b = r * (b.vertices[std::size_t(eb.vertex[1])] - b0_local);
       Vec3 n = direction_a.cross(direction_b);
       const Real length = n.norm();
-      if (!(length > kParallelSine * direction_a.norm() * length_b))
+      if (!(length > kParallelSine * direction_a.norm() * direction_b.norm()))
         continue;
       n /= length;
       // A's edge supports A along -n: -n points out of A there (A's centre is its origin).
       if (n.dot(a0) > 0)
         n = -n;
-      if (!visit(n, n.dot(a0 - b0)))
+      if (!visit(n, n.dot(a0 - (r * b0_local + p))))
         return false;
     }
   }
