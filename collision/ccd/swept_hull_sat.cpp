@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 
@@ -139,76 +140,133 @@ RelativePose relative_pose(const Transform& a, const Transform& b) {
           a.rotate_inverse(b.translation - a.translation)};
 }
 
+// Which candidate axis a gap was measured on, so that the advancement can measure that one axis
+// again at a later time.
+struct AxisFeature {
+  enum class Kind : std::uint8_t { face_a, face_b, edge_pair, box_axis };
+  Kind kind = Kind::face_a;
+  int i = 0;  // face of A or B, edge of A, or box axis (0 to 14)
+  int j = 0;  // edge of B, or the side of a box axis (0: +l, 1: -l)
+};
+
+// Box axis k (A's frame): 2 i is A's face axis i, 2 i + 1 B's, 6 + 3 i + j A's edge i across
+// B's edge j.
+Vec3 box_axis_direction(int k, const Mat3& r) {
+  if (k < 6)
+    return k % 2 == 0 ? Vec3(Vec3::Unit(k / 2)) : Vec3(r.col(k / 2));
+  return Vec3::Unit((k - 6) / 3).cross(r.col((k - 6) % 3));
+}
+
+// The gap along box axis k (side 0: l, 1: -l); false for parallel edges (the face axes cover
+// that direction).
+bool box_axis_gap(const Vec3& ha, const Vec3& hb, const RelativePose& pose, int k, int side,
+                  Vec3& n, Real& gap) {
+  const Mat3& r = pose.rotation;
+  Vec3 l = box_axis_direction(k, r);
+  const Real length = l.norm();
+  if (!(length > kParallelSine))
+    return false;
+  l /= length;
+  const Real reach = ha.x() * std::abs(l.x()) + ha.y() * std::abs(l.y()) +
+                     ha.z() * std::abs(l.z()) + hb.x() * std::abs(l.dot(r.col(0))) +
+                     hb.y() * std::abs(l.dot(r.col(1))) + hb.z() * std::abs(l.dot(r.col(2)));
+  const Real centre = -l.dot(pose.offset);  // B's centre to A's, along l
+  n = side == 0 ? l : Vec3(-l);
+  gap = (side == 0 ? centre : -centre) - reach;
+  return true;
+}
+
 // Two boxes: the 15 axes of the box-box test (Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH
 // 1996), each with its projected radii in closed form and visited in both directions: the same
-// axes as the general code below (a box's opposite faces share one axis), at about the cost of
-// box_box_separation.
+// axes as the general code below (a box's opposite faces share one axis; the far side's gap is
+// negative now but opens when the boxes pass each other, an exit of the translating test).
 template <class Visit>
 bool for_each_box_axis(const Vec3& ha, const Vec3& hb, const RelativePose& pose, Visit&& visit) {
-  const Mat3& r = pose.rotation;
-  const Vec3 d = -pose.offset;  // from B's centre to A's (A's frame)
-  auto axis = [&](Vec3 l) {
-    const Real length = l.norm();
-    if (!(length > kParallelSine))
-      return true;  // parallel edges: the face axes cover this direction
-    l /= length;
-    const Real radius_a =
-        ha.x() * std::abs(l.x()) + ha.y() * std::abs(l.y()) + ha.z() * std::abs(l.z());
-    const Real radius_b = hb.x() * std::abs(l.dot(r.col(0))) + hb.y() * std::abs(l.dot(r.col(1))) +
-                          hb.z() * std::abs(l.dot(r.col(2)));
-    const Real centre = l.dot(d);
-    const Real reach = radius_a + radius_b;
-    // Both sides: the far side's gap is negative now but opens when the boxes pass each other
-    // (an exit time of the translating test).
-    return visit(l, centre - reach) && visit(Vec3(-l), -centre - reach);
-  };
-  for (int i = 0; i < 3; ++i) {
-    if (!axis(Vec3::Unit(i)) || !axis(r.col(i)))
-      return false;
-  }
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (!axis(Vec3::Unit(i).cross(r.col(j))))
+  for (int k = 0; k < 15; ++k) {
+    for (int side = 0; side < 2; ++side) {
+      Vec3 n;
+      Real gap = 0;
+      if (box_axis_gap(ha, hb, pose, k, side, n, gap) &&
+          !visit(n, gap, AxisFeature{AxisFeature::Kind::box_axis, k, side}))
         return false;
     }
   }
   return true;
 }
 
+Real face_a_gap(const PolytopeView& b, const RelativePose& pose, const HullFace& f) {
+  return f.normal.dot(pose.offset) - f.offset - b.support(pose.rotation.transpose() * -f.normal);
+}
+
+Real face_b_gap(const PolytopeView& a, const RelativePose& pose, const HullFace& f, Vec3& n) {
+  n = pose.rotation * f.normal;
+  return -a.support(-n) - f.offset - n.dot(pose.offset);
+}
+
+// The axis of edge ea of A across edge eb of B once their arcs are known to cross: false for
+// parallel edges.
+bool edge_pair_gap(const PolytopeView& a, const HullEdge& ea, const PolytopeView& b,
+                   const HullEdge& eb, const RelativePose& pose, Vec3& n, Real& gap) {
+  const Vec3& a0 = a.vertices[std::size_t(ea.vertex[0])];
+  const Vec3 direction_a = a.vertices[std::size_t(ea.vertex[1])] - a0;
+  const Vec3& b0 = b.vertices[std::size_t(eb.vertex[0])];
+  const Vec3 direction_b = pose.rotation * (b.vertices[std::size_t(eb.vertex[1])] - b0);
+  n = direction_a.cross(direction_b);
+  const Real length = n.norm();
+  if (!(length > kParallelSine * direction_a.norm() * direction_b.norm()))
+    return false;
+  n /= length;
+  // A's edge supports A along -n: -n points out of A there (A's centre is its origin).
+  if (n.dot(a0) > 0)
+    n = -n;
+  gap = n.dot(a0 - (pose.rotation * b0 + pose.offset));
+  return true;
+}
+
+// The Gauss-map test (Gregorius 2013): the arc of A's edge between its face normals (na0, na1)
+// and the arc of -B's edge between its negated face normals (c, d) cross when c and d lie on
+// both sides of the plane of (na0, na1), na0 and na1 on both sides of the plane of (c, d), and
+// both arcs lie in the same hemisphere. cba = c . (na1 x na0), dba = d . (na1 x na0).
+bool arcs_cross(const Vec3& na0, const Vec3& na1, const Vec3& c, const Vec3& d, Real cba,
+                Real dba) {
+  if (!(cba * dba < 0))
+    return false;
+  const Vec3 dxc = d.cross(c);
+  const Real adc = na0.dot(dxc);
+  const Real bdc = na1.dot(dxc);
+  return adc * bdc < 0 && cba * bdc > 0;
+}
+
 // B's face normals on the Gauss map of -B are kept in a stack buffer up to this many faces;
 // bigger hulls turn them again where needed (no heap allocation either way).
 constexpr std::size_t kBufferedFaces = 256;
 
-// Calls visit(axis, gap) for every candidate axis (unit, A's frame, pointing from B to A) with
-// the gap along it: min over A of axis . x minus max over B of axis . x (> 0: apart along it).
-// Stops as soon as visit returns false, and then returns false.
+// Calls visit(axis, gap, feature) for every candidate axis (unit, A's frame, pointing from B to
+// A) with the gap along it: min over A of axis . x minus max over B of axis . x (> 0: apart
+// along it). Stops as soon as visit returns false, and then returns false.
 template <class Visit>
 bool for_each_axis(const PolytopeView& a, const PolytopeView& b, const RelativePose& pose,
                    Visit&& visit) {
+  using Kind = AxisFeature::Kind;
   if (a.is_box && b.is_box)
     return for_each_box_axis(a.half_extents, b.half_extents, pose, visit);
   const Mat3& r = pose.rotation;
-  const Vec3& p = pose.offset;
-  const Mat3 rt = r.transpose();
   // A's faces: the axis is minus the face normal; A's side along it is the face plane itself.
-  for (const HullFace& f : a.faces) {
-    const Real gap = f.normal.dot(p) - f.offset - b.support(rt * -f.normal);
-    if (!visit(Vec3(-f.normal), gap))
+  for (std::size_t i = 0; i < a.faces.size(); ++i) {
+    if (!visit(Vec3(-a.faces[i].normal), face_a_gap(b, pose, a.faces[i]),
+               AxisFeature{Kind::face_a, int(i), 0}))
       return false;
   }
   // B's faces: the axis is the face normal turned into A's frame.
-  for (const HullFace& f : b.faces) {
-    const Vec3 n = r * f.normal;
-    const Real gap = -a.support(-n) - f.offset - n.dot(p);
-    if (!visit(n, gap))
+  for (std::size_t i = 0; i < b.faces.size(); ++i) {
+    Vec3 n;
+    const Real gap = face_b_gap(a, pose, b.faces[i], n);
+    if (!visit(n, gap, AxisFeature{Kind::face_b, int(i), 0}))
       return false;
   }
-  // Edge pairs that form a face of the Minkowski difference. On the Gauss map the edge of A is
-  // the arc between its face normals (na0, na1) and the edge of -B the arc between its negated
-  // face normals (c, d) = (-nb0, -nb1); they cross when c and d lie on both sides of the plane
-  // of (na0, na1), na0 and na1 on both sides of the plane of (c, d), and both arcs lie in the
-  // same hemisphere (Gregorius 2013). The first test rejects most pairs; for one edge of A it
-  // needs only the side of each face normal of B, computed once per face.
+  // Edge pairs that form a face of the Minkowski difference. The first half of the Gauss-map
+  // test rejects most pairs; for one edge of A it needs only the side of each face normal of B,
+  // computed once per face.
   const std::size_t faces_b = b.faces.size();
   const bool buffered = faces_b <= kBufferedFaces;
   std::array<Vec3, kBufferedFaces> gauss_b;
@@ -220,7 +278,8 @@ bool for_each_axis(const PolytopeView& a, const PolytopeView& b, const RelativeP
   auto gauss = [&](int f) {
     return buffered ? gauss_b[std::size_t(f)] : Vec3(-(r * b.faces[std::size_t(f)].normal));
   };
-  for (const HullEdge& ea : a.edges) {
+  for (std::size_t ia = 0; ia < a.edges.size(); ++ia) {
+    const HullEdge& ea = a.edges[ia];
     const Vec3& na0 = a.faces[std::size_t(ea.face[0])].normal;
     const Vec3& na1 = a.faces[std::size_t(ea.face[1])].normal;
     const Vec3 bxa = na1.cross(na0);
@@ -228,33 +287,51 @@ bool for_each_axis(const PolytopeView& a, const PolytopeView& b, const RelativeP
       for (std::size_t f = 0; f < faces_b; ++f)
         side_b[f] = gauss_b[f].dot(bxa);
     }
-    const Vec3& a0 = a.vertices[std::size_t(ea.vertex[0])];
-    const Vec3 direction_a = a.vertices[std::size_t(ea.vertex[1])] - a0;
-    for (const HullEdge& eb : b.edges) {
+    for (std::size_t ib = 0; ib < b.edges.size(); ++ib) {
+      const HullEdge& eb = b.edges[ib];
       const Real cba = buffered ? side_b[std::size_t(eb.face[0])] : gauss(eb.face[0]).dot(bxa);
       const Real dba = buffered ? side_b[std::size_t(eb.face[1])] : gauss(eb.face[1]).dot(bxa);
-      if (!(cba * dba < 0))
+      if (!(cba * dba < 0) || !arcs_cross(na0, na1, gauss(eb.face[0]), gauss(eb.face[1]), cba, dba))
         continue;
-      const Vec3 dxc = gauss(eb.face[1]).cross(gauss(eb.face[0]));
-      const Real adc = na0.dot(dxc);
-      const Real bdc = na1.dot(dxc);
-      if (!(adc * bdc < 0) || !(cba * bdc > 0))
-        continue;
-      const Vec3& b0_local = b.vertices[std::size_t(eb.vertex[0])];
-      const Vec3 direction_b = r * (b.vertices[std::size_t(eb.vertex[1])] - b0_local);
-      Vec3 n = direction_a.cross(direction_b);
-      const Real length = n.norm();
-      if (!(length > kParallelSine * direction_a.norm() * direction_b.norm()))
-        continue;
-      n /= length;
-      // A's edge supports A along -n: -n points out of A there (A's centre is its origin).
-      if (n.dot(a0) > 0)
-        n = -n;
-      if (!visit(n, n.dot(a0 - (r * b0_local + p))))
+      Vec3 n;
+      Real gap = 0;
+      if (edge_pair_gap(a, ea, b, eb, pose, n, gap) &&
+          !visit(n, gap, AxisFeature{Kind::edge_pair, int(ia), int(ib)}))
         return false;
     }
   }
   return true;
+}
+
+// The gap along one feature's axis at a new pose; false when the feature no longer gives an
+// axis (an edge pair whose arcs stopped crossing, or parallel edges).
+bool feature_gap(const PolytopeView& a, const PolytopeView& b, const RelativePose& pose,
+                 const AxisFeature& feature, Vec3& n, Real& gap) {
+  switch (feature.kind) {
+    case AxisFeature::Kind::box_axis:
+      return box_axis_gap(a.half_extents, b.half_extents, pose, feature.i, feature.j, n, gap);
+    case AxisFeature::Kind::face_a: {
+      const HullFace& f = a.faces[std::size_t(feature.i)];
+      n = -f.normal;
+      gap = face_a_gap(b, pose, f);
+      return true;
+    }
+    case AxisFeature::Kind::face_b:
+      gap = face_b_gap(a, pose, b.faces[std::size_t(feature.i)], n);
+      return true;
+    case AxisFeature::Kind::edge_pair: {
+      const HullEdge& ea = a.edges[std::size_t(feature.i)];
+      const HullEdge& eb = b.edges[std::size_t(feature.j)];
+      const Vec3& na0 = a.faces[std::size_t(ea.face[0])].normal;
+      const Vec3& na1 = a.faces[std::size_t(ea.face[1])].normal;
+      const Vec3 c = -(pose.rotation * b.faces[std::size_t(eb.face[0])].normal);
+      const Vec3 d = -(pose.rotation * b.faces[std::size_t(eb.face[1])].normal);
+      const Vec3 bxa = na1.cross(na0);
+      return arcs_cross(na0, na1, c, d, c.dot(bxa), d.dot(bxa)) &&
+             edge_pair_gap(a, ea, b, eb, pose, n, gap);
+    }
+  }
+  return false;
 }
 
 bool finite(const Transform& t) {
@@ -291,7 +368,7 @@ ToiResult translating_sat(const PolytopeView& a, const Transform& pose_a, const 
   Vec3 enter_axis = Vec3::UnitZ();
   Real largest_gap = -kInfinity;  // at s = 0, for the normal of an initial overlap
   Vec3 largest_axis = Vec3::UnitZ();
-  auto visit = [&](const Vec3& n, Real gap) {
+  auto visit = [&](const Vec3& n, Real gap, const AxisFeature&) {
     const Real g = gap - target;
     if (g > largest_gap) {
       largest_gap = g;
@@ -369,6 +446,11 @@ MotionBound motion_bound(const RigidMotion& motion, const PolytopeView& shape) {
   return out;
 }
 
+// Every this many evaluations of the advancement measures all axes; the others measure only the
+// axis that ruled out the last window (cheaper by the number of axes; near contact it is the
+// contact axis anyway).
+constexpr int kFullEvaluationEvery = 4;
+
 Real across(const Vec3& n, const Vec3& u) {
   const Real along = n.dot(u);
   return std::sqrt(std::max(Real(0), Real(1) - along * along));
@@ -385,6 +467,8 @@ ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, cons
   const Real target = settings.target_distance;
   const Real stop = target + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
   ToiResult out;
+  AxisFeature cached;  // the axis that ruled out the last window of a full evaluation
+  bool have_cached = false;
   Real s = 0;
   for (int it = 0; it < settings.max_iterations; ++it) {
     out.iterations = it + 1;
@@ -395,24 +479,47 @@ ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, cons
     const Vec3 velocity = pose_a.rotate_inverse(bound_a.velocity - bound_b.velocity);
     const Vec3 axis_a = pose_a.rotate_inverse(bound_a.axis);
     const Vec3 axis_b = pose_a.rotate_inverse(bound_b.axis);
+    // Lower bound of d(gap)/ds along a fixed axis n.
+    auto rate_bound = [&](const Vec3& n) {
+      return n.dot(velocity) - across(n, axis_a) * bound_a.sweep -
+             across(n, axis_b) * bound_b.sweep;
+    };
+    // Between full evaluations only the cached axis is measured again: while its gap stays
+    // above the stop it rules out a window by itself (no contact can be declared from it).
+    if (have_cached && it % kFullEvaluationEvery != 0) {
+      Vec3 n;
+      Real gap = 0;
+      if (feature_gap(a, b, pose, cached, n, gap) && gap > stop) {
+        const Real rate = rate_bound(n);
+        if (rate >= 0 || s + (gap - target) / -rate >= 1)
+          return separated(out.iterations);
+        s += (gap - target) / -rate;
+        continue;
+      }
+    }
     Real largest_gap = -kInfinity;
     Vec3 largest_axis = Vec3::UnitZ();
     Real window = 0;  // the longest window [s, s + window) that some axis keeps apart
     bool apart = false;
-    auto visit = [&](const Vec3& n, Real gap) {
+    have_cached = false;
+    auto visit = [&](const Vec3& n, Real gap, const AxisFeature& feature) {
       const Real g = gap - target;
       if (g > largest_gap) {
         largest_gap = g;
         largest_axis = n;
       }
-      // Lower bound of d(gap)/ds along n.
-      const Real rate =
-          n.dot(velocity) - across(n, axis_a) * bound_a.sweep - across(n, axis_b) * bound_b.sweep;
+      if (!(g > 0))
+        return true;  // rules out no window
+      const Real rate = rate_bound(n);
       if (rate >= 0) {
-        apart = g > 0;  // apart along n and never closing
-        return !apart;
+        apart = true;  // apart along n and never closing
+        return false;
       }
-      window = std::max(window, g / -rate);
+      if (g / -rate > window) {
+        window = g / -rate;
+        cached = feature;
+        have_cached = true;
+      }
       apart = s + window >= 1;
       return !apart;
     };
@@ -483,13 +590,14 @@ DistanceBound polytope_separation(const Shape& a, const Transform& pose_a, const
   const Polytope pb(b);
   Real largest = -kInfinity;
   Vec3 axis = Vec3::UnitZ();
-  for_each_axis(pa.view(), pb.view(), relative_pose(pose_a, pose_b), [&](const Vec3& n, Real gap) {
-    if (gap > largest) {
-      largest = gap;
-      axis = n;
-    }
-    return true;
-  });
+  for_each_axis(pa.view(), pb.view(), relative_pose(pose_a, pose_b),
+                [&](const Vec3& n, Real gap, const AxisFeature&) {
+                  if (gap > largest) {
+                    largest = gap;
+                    axis = n;
+                  }
+                  return true;
+                });
   out.distance = largest;
   out.normal = pose_a.rotate(axis);
   return out;
