@@ -412,6 +412,8 @@ struct MotionBound {
   Vec3 velocity = Vec3::Zero();  // linear kind: the centre's velocity; screw: its part along u
   Vec3 axis = Vec3::Zero();      // u, the unit rotation axis (zero when the body does not turn)
   Real sweep = 0;                // speed across u: the screw centre's plus |w| times the radius
+  Vec3 omega = Vec3::Zero();     // angular velocity (world) [rad per unit s]
+  bool linear = true;            // the linear kind (or no rotation): the centre does not turn
 };
 
 MotionBound motion_bound(const RigidMotion& motion, const PolytopeView& shape) {
@@ -424,6 +426,8 @@ MotionBound motion_bound(const RigidMotion& motion, const PolytopeView& shape) {
     return out;
   }
   out.axis = w / turn;
+  out.omega = w;
+  out.linear = motion.kind() == MotionKind::linear;
   // Largest distance of a vertex from the rotation axis through the centre: it does not change
   // while the body turns about that axis.
   const Vec3 u_local = motion.start().rotate_inverse(out.axis);
@@ -446,15 +450,71 @@ MotionBound motion_bound(const RigidMotion& motion, const PolytopeView& shape) {
   return out;
 }
 
-// Every this many evaluations of the advancement measures all axes; the others measure only the
-// axis that ruled out the last window (cheaper by the number of axes; near contact it is the
-// contact axis anyway).
-constexpr int kFullEvaluationEvery = 4;
-
 Real across(const Vec3& n, const Vec3& u) {
   const Real along = n.dot(u);
   return std::sqrt(std::max(Real(0), Real(1) - along * along));
 }
+
+// A longer window along one fixed axis n (A's frame) when both bodies move with the linear kind:
+// every vertex's projection moves at a rate known exactly at s (centre velocity plus w x r) and
+// that rate drifts by at most |w| |n x u| sweep per unit s (the turning of w x r), so
+//   gap(s + h) >= F(h) = min_a (alpha_a + h beta_a) - max_b (alpha_b + h beta_b) - K h^2 / 2.
+// F is concave, so F > 0 at 0 and at h means F > 0 on [0, h]: any h where F is verified positive
+// is a safe window. Secant steps from below find one close to the root of F; near contact this
+// converges much faster than the first-order bound, whose rate is the worst vertex's.
+struct SpinFrame {  // the motion of both bodies in A's frame at s
+  Vec3 velocity_a, omega_a, velocity_b, omega_b;
+  Real acceleration_a = 0, acceleration_b = 0;  // |w|^2 radius across u (times |n x u| below)
+  Vec3 axis_a, axis_b;
+};
+
+Real second_order_window(const PolytopeView& a, const PolytopeView& b, const RelativePose& pose,
+                         const SpinFrame& m, const Vec3& n, Real target, Real limit) {
+  const Vec3 na_spin = n.cross(m.omega_a);  // n . (w x r) = r . (n x w)
+  const Vec3 nb = pose.rotation.transpose() * n;
+  const Vec3 nb_spin = pose.rotation.transpose() * n.cross(m.omega_b);
+  const Real base_b = n.dot(pose.offset);
+  const Real rate_a = n.dot(m.velocity_a);
+  const Real rate_b = n.dot(m.velocity_b);
+  const Real k = across(n, m.axis_a) * m.acceleration_a + across(n, m.axis_b) * m.acceleration_b;
+  auto lower_gap = [&](Real h) {
+    Real min_a = kInfinity;
+    for (const Vec3& v : a.vertices)
+      min_a = std::min(min_a, n.dot(v) + h * (rate_a + na_spin.dot(v)));
+    Real max_b = -kInfinity;
+    for (const Vec3& v : b.vertices)
+      max_b = std::max(max_b, nb.dot(v) + h * (rate_b + nb_spin.dot(v)));
+    return min_a - max_b - base_b - target - Real(0.5) * k * h * h;
+  };
+  Real lo = 0;
+  Real f_lo = lower_gap(0);
+  if (!(f_lo > 0))
+    return 0;
+  Real hi = limit;
+  Real f_hi = lower_gap(hi);
+  if (f_hi > 0)
+    return limit;  // apart along n up to the end of the motion
+  for (int step = 0; step < 6; ++step) {
+    const Real h = lo + f_lo * (hi - lo) / (f_lo - f_hi);
+    if (!(h > lo && h < hi))
+      break;
+    const Real f = lower_gap(h);
+    if (f > 0) {
+      lo = h;
+      f_lo = f;
+    } else {
+      hi = h;
+      f_hi = f;
+      f_lo *= Real(0.5);  // Illinois: keeps the secant from creeping up on one side
+    }
+  }
+  return lo;
+}
+
+// Every this many evaluations of the advancement measures all axes; the others measure only the
+// axis that ruled out the last window (cheaper by the number of axes; near contact it is the
+// contact axis anyway).
+constexpr int kFullEvaluationEvery = 4;
 
 // Advancement over time windows for turning bodies (see the header comment of this file).
 ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, const PolytopeView& b,
@@ -466,6 +526,7 @@ ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, cons
     return invalid(0);
   const Real target = settings.target_distance;
   const Real stop = target + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
+  const bool second_order = bound_a.linear && bound_b.linear;
   ToiResult out;
   AxisFeature cached;  // the axis that ruled out the last window of a full evaluation
   bool have_cached = false;
@@ -484,16 +545,34 @@ ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, cons
       return n.dot(velocity) - across(n, axis_a) * bound_a.sweep -
              across(n, axis_b) * bound_b.sweep;
     };
+    SpinFrame spin;
+    if (second_order) {
+      spin.velocity_a = pose_a.rotate_inverse(bound_a.velocity);
+      spin.velocity_b = pose_a.rotate_inverse(bound_b.velocity);
+      spin.omega_a = pose_a.rotate_inverse(bound_a.omega);
+      spin.omega_b = pose_a.rotate_inverse(bound_b.omega);
+      spin.acceleration_a = bound_a.omega.norm() * bound_a.sweep;
+      spin.acceleration_b = bound_b.omega.norm() * bound_b.sweep;
+      spin.axis_a = axis_a;
+      spin.axis_b = axis_b;
+    }
+    // The window of one axis: the first-order one, or the second-order one when longer.
+    auto window_of = [&](const Vec3& n, Real g, Real rate) {
+      const Real first = rate < 0 ? g / -rate : kInfinity;
+      if (!second_order || first >= 1 - s)
+        return first;
+      return std::max(first, second_order_window(a, b, pose, spin, n, target, 1 - s));
+    };
     // Between full evaluations only the cached axis is measured again: while its gap stays
     // above the stop it rules out a window by itself (no contact can be declared from it).
     if (have_cached && it % kFullEvaluationEvery != 0) {
       Vec3 n;
       Real gap = 0;
       if (feature_gap(a, b, pose, cached, n, gap) && gap > stop) {
-        const Real rate = rate_bound(n);
-        if (rate >= 0 || s + (gap - target) / -rate >= 1)
+        const Real window = window_of(n, gap - target, rate_bound(n));
+        if (s + window >= 1)
           return separated(out.iterations);
-        s += (gap - target) / -rate;
+        s += window;
         continue;
       }
     }
@@ -524,6 +603,15 @@ ToiResult advancing_sat(const PolytopeView& a, const RigidMotion& motion_a, cons
       return !apart;
     };
     for_each_axis(a, b, pose, visit);
+    if (!apart && second_order && have_cached && window > 0) {
+      // The second-order window of the axis that ruled out the longest first-order one.
+      Vec3 n;
+      Real gap = 0;
+      if (feature_gap(a, b, pose, cached, n, gap)) {
+        window = std::max(window, window_of(n, gap - target, rate_bound(n)));
+        apart = s + window >= 1;
+      }
+    }
     if (apart)
       return separated(out.iterations);
     if (!std::isfinite(largest_gap))
