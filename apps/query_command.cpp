@@ -13,7 +13,8 @@
 //     so apart shapes are listed too), and "state" (penetrating / touching / separated) from the
 //     sign of the distance.
 //   toi: conservative advancement (collision/ccd/conservative_advancement.hpp) over the
-//     query's duration with each shape moving at constant velocity and angular velocity.
+//     query's duration with each shape moving at constant velocity and angular velocity, or with
+//     `method: sat` the time-extended SAT (collision/ccd/swept_hull_sat.hpp; boxes and hulls).
 #include "apps/query_command.hpp"
 
 #include <iostream>
@@ -21,6 +22,7 @@
 
 #include "apps/number_format.hpp"
 #include "collision/ccd/conservative_advancement.hpp"
+#include "collision/ccd/swept_hull_sat.hpp"
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
@@ -210,7 +212,10 @@ std::string answer_toi(const ShapeQuery& q) {
   ToiSettings settings;
   settings.tolerance = Real(1e-9);
   settings.max_iterations = 1000;
-  const ToiResult r = time_of_impact(q.a, motion_a, q.b, motion_b, settings);
+  const bool sat = q.method == ToiMethod::sat;
+  const ToiResult r = sat ? time_extended_sat(q.a, motion_a, q.b, motion_b, settings)
+                          : time_of_impact(q.a, motion_a, q.b, motion_b, settings);
+  out << "\"method\":\"" << (sat ? "sat" : "advancement") << "\",";
   out << "\"status\":\"" << toi_status_name(r.status) << "\",\"toi\":";
   if (r.hit()) {
     write_number(out, r.time_of_impact * q.duration);

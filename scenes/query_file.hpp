@@ -1,5 +1,5 @@
 // The input of `tumble query` (design.md): a YAML file with a list of shape pairs,
-//   queries: [{name, kind, margin, duration, a: {shape, position, orientation, velocity,
+//   queries: [{name, kind, margin, duration, method, a: {shape, position, orientation, velocity,
 //              angular_velocity}, b: {...}}]
 // Shapes are written exactly as in scene files (the same parser reads them). Errors are the
 // loader's SceneError, with file, line, column and field.
@@ -18,6 +18,10 @@ namespace tumble {
 // (time of impact of the two shapes moving with constant velocities over `duration`).
 enum class QueryKind { contact, toi };
 
+// kind toi: how the time of impact is found: conservative advancement (any shapes; the
+// default) or the time-extended SAT (a box or hull on both sides; collision/ccd/swept_hull_sat).
+enum class ToiMethod { advancement, sat };
+
 struct ShapeQuery {
   std::string name;
   QueryKind kind = QueryKind::contact;
@@ -32,6 +36,7 @@ struct ShapeQuery {
   Vec3 velocity_b = Vec3::Zero();
   Vec3 angular_velocity_b = Vec3::Zero();
   Real duration = 1;  // s
+  ToiMethod method = ToiMethod::advancement;
 };
 
 std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path);

@@ -1499,8 +1499,8 @@ namespace tumble {
 namespace {
 
 constexpr std::array<std::string_view, 1> kQueryTopKeys{"queries"};
-constexpr std::array<std::string_view, 6> kQueryKeys{"name",     "kind", "margin",
-                                                     "duration", "a",    "b"};
+constexpr std::array<std::string_view, 7> kQueryKeys{"name",   "kind", "margin", "duration",
+                                                     "method", "a",    "b"};
 constexpr std::array<std::string_view, 3> kPlacedShapeKeys{"shape", "position", "orientation"};
 constexpr std::array<std::string_view, 5> kMovingShapeKeys{"shape", "position", "orientation",
                                                            "velocity", "angular_velocity"};
@@ -1575,6 +1575,21 @@ ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::siz
     }
     q.duration = read_real(*x, child(path, "duration"), kQueryDuration);
   }
+  const Entry* method = f.find("method");
+  if (method != nullptr) {
+    if (!moving) {
+      fail(method->mark(), child(path, "method"), "'method' is only read by queries of kind: toi");
+    }
+    const std::string m = read_word(*method, child(path, "method"), "a time-of-impact method");
+    if (m == "advancement") {
+      q.method = ToiMethod::advancement;
+    } else if (m == "sat") {
+      q.method = ToiMethod::sat;
+    } else {
+      fail(method->mark(), child(path, "method"),
+           "expected one of: advancement, sat, got '" + m + "'");
+    }
+  }
   for (const char* side : {"a", "b"}) {
     const Entry* x = f.find(side);
     if (x == nullptr) {
@@ -1589,6 +1604,15 @@ ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::siz
       load_placed_shape(*x, child(path, side), q.b, q.pose_b, moving ? &q.velocity_b : nullptr,
                         moving ? &q.angular_velocity_b : nullptr);
     }
+  }
+  auto polytope = [](const Shape& shape) {
+    return shape.type == ShapeType::box || shape.type == ShapeType::hull;
+  };
+  if (q.method == ToiMethod::sat && !(polytope(q.a) && polytope(q.b))) {
+    fail(method->mark(), child(path, "method"),
+         "method sat needs a box or hull on both sides, got " +
+             std::string(shape_type_name(q.a.type)) + " and " +
+             std::string(shape_type_name(q.b.type)));
   }
   return q;
 }

@@ -266,6 +266,59 @@ TEST(QueryCommand, TimeOfImpactOfTwoSpheresMatchesClosedForm) {
   EXPECT_TRUE(q[1]["toi"].is_null());
 }
 
+TEST(QueryCommand, TimeExtendedSatMethodMatchesTheClosedFormAndAdvancement) {
+  // A cube (half size 0.5) falls at 4 m/s onto a cube (half size 0.25) turned about z: the gap
+  // of 1.25 m closes at t = 0.3125 s. The hull version spins about the vertical, which moves
+  // no point along it: the same time.
+  const fs::path file = write_query_file("sat.yaml", R"(queries:
+  - name: boxes
+    kind: toi
+    method: sat
+    a: {shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [3, 1, 2.5],
+        velocity: [0, 0, -4]}
+    b: {shape: {type: box, half_extents: [0.25, 0.25, 0.25]}, position: [3.1, 1, 0.5],
+        orientation: [0.9238795325112867, 0, 0, 0.3826834323650898]}
+  - name: spinning_hull
+    kind: toi
+    method: sat
+    a: {shape: {type: hull, points: [[-0.5, -0.5, -0.5], [0.5, -0.5, -0.5], [-0.5, 0.5, -0.5],
+        [0.5, 0.5, -0.5], [-0.5, -0.5, 0.5], [0.5, -0.5, 0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5]]},
+        position: [3, 1, 2.5], velocity: [0, 0, -4], angular_velocity: [0, 0, 3]}
+    b: {shape: {type: box, half_extents: [0.25, 0.25, 0.25]}, position: [3.1, 1, 0.5]}
+  - name: boxes_by_advancement
+    kind: toi
+    a: {shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [3, 1, 2.5],
+        velocity: [0, 0, -4]}
+    b: {shape: {type: box, half_extents: [0.25, 0.25, 0.25]}, position: [3.1, 1, 0.5],
+        orientation: [0.9238795325112867, 0, 0, 0.3826834323650898]}
+)");
+  const Output r = run_query(file);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const auto q = lines_of(r.text);
+  ASSERT_EQ(q.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(q[i]["status"], "hit") << i;
+    EXPECT_NEAR(q[i]["toi"].get<double>(), 0.3125, i == 0 ? 1e-12 : 1e-9) << i;
+    EXPECT_NEAR((vec_of(q[i]["normal"]) - Vec3::UnitZ()).norm(), 0, 1e-6) << i;
+  }
+  EXPECT_EQ(q[0]["method"], "sat");
+  EXPECT_EQ(q[2]["method"], "advancement");
+  // A sphere has no faces or edges for the SAT: the field is named.
+  const fs::path sphere = write_query_file("satsphere.yaml", R"(queries:
+  - kind: toi
+    method: sat
+    a: {shape: {type: sphere, radius: 1}, velocity: [1, 0, 0]}
+    b: {shape: {type: box, half_extents: [1, 1, 1]}, position: [5, 0, 0]}
+)");
+  const Output s = run_query(sphere);
+  EXPECT_EQ(s.exit_code, 1);
+  EXPECT_NE(s.text.find("satsphere.yaml:3:"), std::string::npos) << s.text;
+  EXPECT_NE(s.text.find("field 'queries[0].method': method sat needs a box or hull on both "
+                        "sides, got sphere and box"),
+            std::string::npos)
+      << s.text;
+}
+
 TEST(QueryCommand, UnknownKindAndMisplacedMotionAreNamed) {
   const fs::path kind = write_query_file("badkind.yaml", R"(queries:
   - a: {shape: {type: sphere, radius: 1}}
