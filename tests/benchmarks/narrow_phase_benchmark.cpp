@@ -19,6 +19,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <cmath>
 #include <memory>
@@ -29,6 +30,7 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
 
 namespace {
 
@@ -279,6 +281,86 @@ void BM_SphereSphereArray_Bullet(benchmark::State& state) {
     dispatcher.releaseManifold(manifold);
 }
 
+// ---- 6. hull-hull manifolds: SAT vs GJK+EPA vs Bullet's polyhedral SAT ----------------------
+// The 43-vertex hull pair on the poses of case 4 (penetrating, centres 0.1 to 0.5 of the sum of
+// bounding radii apart), on shallow poses (0.8 to 1.0: resting-like contacts) and on the
+// separated poses of case 3 (1.05 to 1.5). Every case builds the whole manifold:
+//   tumble SAT      detail::hull_hull (hull_hull_sat.cpp: face and Gauss-map-pruned edge queries,
+//                   face clipping, reduction to 4 points);
+//   tumble GJK+EPA  detail::convex_convex (convex_pairs.cpp: GJK, EPA, feature clipping);
+//   Bullet SAT      btPolyhedralContactClipping::findSeparatingAxis + clipHullAgainstHull on
+//                   btConvexHullShape with initializePolyhedralFeatures() (margin 0, contact
+//                   range [-1e30, 0] as btConvexConvexAlgorithm passes with a zero breaking
+//                   threshold).
+
+void run_tumble_hull_pair(benchmark::State& state, detail::PairFunction pair, Real low, Real high,
+                          std::uint64_t seed) {
+  const Shape hull = Shape::convex_hull(hull43());
+  const auto p = poses(low, high, 2 * bounding_radius(hull), seed);
+  Manifold m;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    m = Manifold{};
+    benchmark::DoNotOptimize(pair(hull, q.a, hull, q.b, 0, m));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void run_bullet_hull_sat(benchmark::State& state, Real low, Real high, std::uint64_t seed) {
+  const auto hull = hull43();
+  const auto shape = bullet_hull(*hull);
+  shape->initializePolyhedralFeatures();
+  const btConvexPolyhedron& polyhedron = *shape->getConvexPolyhedron();
+  const auto p = poses(low, high, 2 * hull->bounding_radius(), seed);
+  btVertexArray vertices_1;
+  btVertexArray vertices_2;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    const btTransform ta = to_bullet(q.a);
+    const btTransform tb = to_bullet(q.b);
+    CountingResult result;
+    btVector3 axis;
+    if (btPolyhedralContactClipping::findSeparatingAxis(polyhedron, polyhedron, ta, tb, axis,
+                                                        result)) {
+      vertices_1.resize(0);
+      btPolyhedralContactClipping::clipHullAgainstHull(
+          axis, polyhedron, polyhedron, ta, tb, btScalar(-1e30), 0, vertices_1, vertices_2, result);
+    }
+    benchmark::DoNotOptimize(result.points);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_HullHull43Penetrating_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, 0.1, 0.5, 2);
+}
+void BM_HullHull43Penetrating_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, 0.1, 0.5, 2);
+}
+void BM_HullHull43Penetrating_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, 0.1, 0.5, 2);
+}
+void BM_HullHull43Shallow_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, 0.8, 1.0, 6);
+}
+void BM_HullHull43Shallow_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, 0.8, 1.0, 6);
+}
+void BM_HullHull43Shallow_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, 0.8, 1.0, 6);
+}
+void BM_HullHull43Separated_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, 1.05, 1.5, 2);
+}
+void BM_HullHull43Separated_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, 1.05, 1.5, 2);
+}
+void BM_HullHull43Separated_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, 1.05, 1.5, 2);
+}
+
 BENCHMARK(BM_BoxBoxManifold_Tumble);
 BENCHMARK(BM_BoxBoxManifold_Bullet);
 BENCHMARK(BM_GjkSeparatedBoxes_Tumble);
@@ -289,6 +371,15 @@ BENCHMARK(BM_GjkEpaPenetratingHulls43_Tumble);
 BENCHMARK(BM_GjkEpaPenetratingHulls43_Bullet);
 BENCHMARK(BM_SphereSphereArray_Tumble);
 BENCHMARK(BM_SphereSphereArray_Bullet);
+BENCHMARK(BM_HullHull43Penetrating_TumbleSat);
+BENCHMARK(BM_HullHull43Penetrating_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Penetrating_BulletSat);
+BENCHMARK(BM_HullHull43Shallow_TumbleSat);
+BENCHMARK(BM_HullHull43Shallow_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Shallow_BulletSat);
+BENCHMARK(BM_HullHull43Separated_TumbleSat);
+BENCHMARK(BM_HullHull43Separated_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Separated_BulletSat);
 
 }  // namespace
 
