@@ -99,39 +99,42 @@ Real face_separation(const ConvexHull& faces, int f, const ConvexHull& other,
   return face.normal.dot(other_pose.apply(other.vertex(start))) - face.offset;
 }
 
-// Faces of `faces` against the vertices of `other` placed by `other_pose` in faces' frame. A
-// face whose bound n.c - offset - r (c, r: other's centre and inscribed radius) is not above
-// `beat` cannot be the best one and is skipped; the face most facing the other hull is tried
+// Faces of `faces` against the vertices of `other` placed by `other_pose` in faces' frame. The
+// separation over a face is the minimum over other's vertices, so it is at most its value at
+// other's vertex `near` (other's support towards the faces' hull), and at most n.c - offset - r
+// (c, r: other's centre and inscribed radius). A face whose bound is not above `beat` or the
+// best so far cannot be the best one and is skipped; the face with the best bound is tried
 // first so that the bound bites early. Stops at the first face separating by more than
 // `stop_above`. Returns face -1 when no face beat `beat`.
 SatFaceQuery query_faces(const ConvexHull& faces, const ConvexHull& other,
-                         const Transform& other_pose, Real other_inscribed, Real beat,
+                         const Transform& other_pose, Real other_inscribed, int near, Real beat,
                          Real stop_above) {
   const Vec3& centre = other_pose.translation;
+  const Vec3 near_point = other_pose.apply(other.vertex(near));
   const int count = int(faces.faces().size());
+  const auto bound = [&](const HullFace& face) {
+    return std::min(face.normal.dot(centre) - other_inscribed, face.normal.dot(near_point)) -
+           face.offset;
+  };
   int first = 0;
   Real first_bound = -std::numeric_limits<Real>::infinity();
   for (int f = 0; f < count; ++f) {
-    const HullFace& face = faces.faces()[std::size_t(f)];
-    const Real bound = face.normal.dot(centre) - face.offset;
-    if (bound > first_bound) {
-      first_bound = bound;
+    const Real b = bound(faces.faces()[std::size_t(f)]);
+    if (b > first_bound) {
+      first_bound = b;
       first = f;
     }
   }
   SatFaceQuery best;
-  // The climb starts at other's vertex nearest the faces' hull.
-  int start = other.support_index(other_pose.rotate_inverse(-centre), 0);
+  int start = near;
   const Real first_separation = face_separation(faces, first, other, other_pose, start);
   if (first_separation > beat)
     best = {first, start, first_separation};
   if (first_separation > stop_above)
     return best;
   for (int f = 0; f < count; ++f) {
-    const HullFace& face = faces.faces()[std::size_t(f)];
-    const Real bound = face.normal.dot(centre) - face.offset - other_inscribed;
     const Real to_beat = std::max(beat, best.separation);
-    if (f == first || !(bound > to_beat))
+    if (f == first || !(bound(faces.faces()[std::size_t(f)]) > to_beat))
       continue;
     const Real separation = face_separation(faces, f, other, other_pose, start);
     if (separation > to_beat) {
@@ -152,24 +155,34 @@ struct EdgeArc {
   int index;
 };
 
-// Largest n . v over the arc between unit normals a and b, from above (see the header comment).
-Real arc_bound(Real a_dot_v, Real b_dot_v, const Vec3& a, const Vec3& b) {
-  const Real m = std::max(a_dot_v, b_dot_v);
+// n . v over the arc between unit normals a and b is at most max(a.v, b.v) / cos(half the arc)
+// when positive, and at most max(a.v, b.v) otherwise (see the header comment). `scale` is
+// 1 / cos(half the arc), computed once per edge and only when needed.
+Real arc_bound(Real m, Real& scale, const Vec3& a, const Vec3& b) {
   if (m <= 0)
     return m;
-  const Real twice_cos_half = (a + b).norm();
-  if (!(twice_cos_half > Real(1e-6)))
-    return std::numeric_limits<Real>::infinity();
-  return m * (Real(2) / twice_cos_half);
+  if (scale == 0) {
+    const Real twice_cos_half = (a + b).norm();
+    scale = twice_cos_half > Real(1e-6) ? Real(2) / twice_cos_half
+                                        : std::numeric_limits<Real>::infinity();
+  }
+  return m * scale;
 }
 
+// The other hull as the edge bound sees it, in the frame of the hull whose edges are collected.
+struct OtherHull {
+  Vec3 centre;  // its centre of mass
+  Real inscribed = 0;
+  Vec3 near;  // its support point towards this hull
+};
+
 // The arcs of `hull`'s edges (placed by `pose` in A's frame; normals reversed for B) that can
-// still beat `threshold`: their bound separation against the other hull, whose centre is
-// `other_centre` in `hull`'s own frame and whose inscribed radius is `other_inscribed`, exceeds
-// it. The bound is evaluated in the hull's own frame, so only the kept edges are rotated.
-int collect_arcs(const ConvexHull& hull, const Transform& pose, bool is_b, const Vec3& other_centre,
-                 Real other_inscribed, Real threshold, bool use_bound,
-                 std::array<EdgeArc, kSatMaxEdges>& out) {
+// still beat `threshold`. For n in the arc of an edge from point p, the separation is at most
+// n.(c - p) - r and at most n.(q - p) (c, r, q: the other hull's centre, inscribed radius and
+// support point towards this hull; for B's edges the same holds with B's own, unreversed
+// normals). The bound is evaluated in the hull's own frame, so only the kept edges are rotated.
+int collect_arcs(const ConvexHull& hull, const Transform& pose, bool is_b, const OtherHull& other,
+                 Real threshold, bool use_bound, std::array<EdgeArc, kSatMaxEdges>& out) {
   const Mat3 rotation = pose.rotation.toRotationMatrix();
   const Real sign = is_b ? Real(-1) : Real(1);
   int count = 0;
@@ -182,12 +195,17 @@ int collect_arcs(const ConvexHull& hull, const Transform& pose, bool is_b, const
     const Vec3& local_b = hull.faces()[std::size_t(edge.face[1])].normal;
     const Vec3& local_start = hull.vertex(edge.vertex[0]);
     if (use_bound) {
-      // A's edge, n in its arc: separation <= n.(c_B - p) - r_B. B's edge, n in its reversed
-      // arc: separation <= n.(p - c_A) - r_A = (-n).(c_A - p) - r_A. Either way the arc of the
-      // hull's own normals against (other's centre - p).
-      const Vec3 v = other_centre - local_start;
-      if (!(arc_bound(local_a.dot(v), local_b.dot(v), local_a, local_b) - other_inscribed >
-            threshold))
+      const Vec3 to_near = other.near - local_start;
+      Real scale = 0;
+      const Real by_near =
+          arc_bound(std::max(local_a.dot(to_near), local_b.dot(to_near)), scale, local_a, local_b);
+      if (!(by_near > threshold))
+        continue;
+      const Vec3 to_centre = other.centre - local_start;
+      const Real by_centre = arc_bound(std::max(local_a.dot(to_centre), local_b.dot(to_centre)),
+                                       scale, local_a, local_b) -
+                             other.inscribed;
+      if (!(by_centre > threshold))
         continue;
     }
     const Vec3 a = sign * (rotation * local_a);
@@ -203,16 +221,15 @@ int collect_arcs(const ConvexHull& hull, const Transform& pose, bool is_b, const
 }
 
 SatEdgeQuery query_edges(const ConvexHull& a, const ConvexHull& b, const Transform& b_in_a,
+                         const OtherHull& b_seen_from_a, const OtherHull& a_seen_from_b,
                          Real threshold, SatEdgePruning pruning, int& pairs_tested) {
   const bool use_bound = pruning == SatEdgePruning::gauss_map_and_bound;
   std::array<EdgeArc, kSatMaxEdges> arcs_a;
   std::array<EdgeArc, kSatMaxEdges> arcs_b;
-  const int count_a = collect_arcs(a, Transform{}, false, b_in_a.translation, inscribed_radius(b),
-                                   threshold, use_bound, arcs_a);
-  const int count_b = count_a == 0
-                          ? 0
-                          : collect_arcs(b, b_in_a, true, b_in_a.apply_inverse(Vec3::Zero()),
-                                         inscribed_radius(a), threshold, use_bound, arcs_b);
+  const int count_a =
+      collect_arcs(a, Transform{}, false, b_seen_from_a, threshold, use_bound, arcs_a);
+  const int count_b =
+      count_a == 0 ? 0 : collect_arcs(b, b_in_a, true, a_seen_from_b, threshold, use_bound, arcs_b);
   pairs_tested = count_a * count_b;
   SatEdgeQuery best;
   for (int j = 0; j < count_b; ++j) {
@@ -246,10 +263,16 @@ SatResult hull_sat_query(const ConvexHull& a, const ConvexHull& b, const Transfo
     result.status = SatStatus::too_big;
     return result;
   }
-  const bool use_bound = pruning == SatEdgePruning::gauss_map_and_bound;
   const Real lowest = -std::numeric_limits<Real>::infinity();
-  result.face_a =
-      query_faces(a, b, b_in_a, use_bound ? inscribed_radius(b) : Real(0), lowest, stop_above);
+  // Each hull as the other sees it: centre, inscribed radius, and support point towards it.
+  const Transform a_in_b{b_in_a.apply_inverse(Vec3::Zero()), b_in_a.rotation.conjugate()};
+  const int near_b = b.support_index(a_in_b.translation, 0);
+  const int near_a = a.support_index(b_in_a.translation, 0);
+  const OtherHull b_seen_from_a{b_in_a.translation, inscribed_radius(b),
+                                b_in_a.apply(b.vertex(near_b))};
+  const OtherHull a_seen_from_b{a_in_b.translation, inscribed_radius(a),
+                                a_in_b.apply(a.vertex(near_a))};
+  result.face_a = query_faces(a, b, b_in_a, b_seen_from_a.inscribed, near_b, lowest, stop_above);
   if (result.face_a.separation > stop_above) {
     result.status = SatStatus::separated;
     return result;
@@ -257,15 +280,16 @@ SatResult hull_sat_query(const ConvexHull& a, const ConvexHull& b, const Transfo
   // B's faces against A, in B's frame: the separation above B's plane is the separation along
   // the reversed normal, from A to B. With the bound, only a face better than A's best is
   // looked for; without it (tests) B's best face is found whatever A's is.
-  const Transform a_in_b{b_in_a.apply_inverse(Vec3::Zero()), b_in_a.rotation.conjugate()};
-  result.face_b = query_faces(b, a, a_in_b, use_bound ? inscribed_radius(a) : Real(0),
+  const bool use_bound = pruning == SatEdgePruning::gauss_map_and_bound;
+  result.face_b = query_faces(b, a, a_in_b, a_seen_from_b.inscribed, near_a,
                               use_bound ? result.face_a.separation : lowest, stop_above);
   if (result.face_b.separation > stop_above) {
     result.status = SatStatus::separated;
     return result;
   }
   const Real threshold = std::max(result.face_a.separation, result.face_b.separation);
-  result.edges = query_edges(a, b, b_in_a, threshold, pruning, result.edge_pairs_tested);
+  result.edges = query_edges(a, b, b_in_a, b_seen_from_a, a_seen_from_b, threshold, pruning,
+                             result.edge_pairs_tested);
   result.status =
       result.edges.separation > stop_above ? SatStatus::separated : SatStatus::overlapping;
   return result;
