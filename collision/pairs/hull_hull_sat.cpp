@@ -10,26 +10,33 @@
 //     so the separation is one dot product. The axis is turned away from A's centre, and
 //     near-parallel edges are skipped (their cross product would be mostly rounding; the face
 //     axes cover them).
-//   * bound (ours, exact): for an axis n in the arc of A's edge e with end point p, the
-//     separation is n.(c_B - p) - h_B(-n) <= n.(c_B - p) - r_B, with c_B B's centre of mass and
-//     r_B the radius of B's largest inscribed ball about it (its nearest face plane). The largest
-//     n.v over an arc between unit normals a and b is at most max(a.v, b.v) / cos(half the arc)
-//     (when positive). An edge whose bound cannot beat the best face is dropped before the pair
-//     loop; likewise for B's edges. Edges dropped this way could never be chosen, so the answer
-//     is the same as with the Gauss map alone (tested), and shallow contacts, where the
-//     centres are far apart compared with the depth, test a small fraction of the pairs.
+//   * bounds (ours, exact): a face's separation is the minimum over the other hull's vertices,
+//     so at most its value at any one point of the other hull (we take its support point towards
+//     this hull) and at most n.c - offset - r (c, r: the other hull's centre of mass and the
+//     radius of its largest inscribed ball about it). For an axis n in the arc of A's edge from
+//     point p the separation is likewise at most n.(q - p) and n.(c - p) - r; the largest n.v
+//     over an arc between unit normals a and b is at most max(a.v, b.v) / cos(half the arc)
+//     (when positive). A face or an edge whose bound cannot beat the best face so far is never
+//     evaluated: it could never be chosen, so the answer is the same as without the bounds
+//     (tested), and a shallow contact tests a few percent of the edge pairs.
 // The axis of least penetration is chosen with a bias towards faces, A's face first
-// (clearly_more_separated in pairs.hpp: 2 % of the incumbent plus 1e-5 of the pair's size), so
-// the manifold does not flip between a face and a nearly equal edge from step to step.
+// (clearly_more_separated in pairs.hpp: 2 % of the incumbent plus 1e-5 of the pair's size, as
+// box_box), so the manifold does not flip between a face and a nearly equal edge from step to
+// step. The biased choice is kept only when its deepest point reaches the penetration its own
+// axis measures (so that pushing A out by that depth along the normal separates the hulls);
+// otherwise the exactly best axis answers. The reported depth is thus never below the true
+// depth, and above it by at most the bias.
 //
 // Points, face axis (Gregorius, "Robust Contact Creation for Physics Simulations", GDC 2015;
 // Catto, "Contact Manifolds", GDC 2007): the reference face is the chosen face; the incident face
-// is the face of the other hull most anti-parallel to its normal. The incident polygon is clipped
-// against the side planes of the reference face (Sutherland-Hodgman, fixed buffers), the points
-// below the reference plane, or above it by at most the margin, are kept with their depth along
-// the reference normal, and more than four are reduced (manifold_reduction). Each point carries
-// the features that made it: an incident vertex inside the reference face, an incident edge
-// crossing a reference side edge, or a reference corner inside the incident face.
+// is, among the faces around the other hull's deepest vertex (from the face query), the one most
+// anti-parallel to the reference normal. (The most anti-parallel face of the whole hull can lie
+// away from that vertex and miss the reference face.) The incident polygon is clipped against
+// the side planes of the reference face (Sutherland-Hodgman, fixed buffers), the points below the
+// reference plane, or above it by at most the margin, are kept with their depth along the
+// reference normal, and more than four are reduced (manifold_reduction). Each point carries the
+// features that made it: an incident vertex inside the reference face, an incident edge crossing
+// a reference side edge, or a reference corner inside the incident face.
 // Points, edge axis: one point at the closest points of the two edge segments.
 //
 // Margin: the engine keeps points down to depth -margin (speculative contacts). An axis that
@@ -37,7 +44,9 @@
 // the best axis separates by less (apart within the margin), its separation can be smaller than
 // the true distance (two hulls vertex to vertex); then GJK measures the distance, and the SAT
 // manifold is kept only when its axis realises it, otherwise the generic GJK pair
-// (convex_convex) answers, as box_box does with its exact closest features.
+// (convex_convex) answers, as box_box does with its exact closest features. Hulls too big for
+// the fixed buffers (more than kSatMaxEdges edges, or a face of more than 64 vertices) also go to
+// convex_convex.
 #include "collision/pairs/hull_hull_sat.hpp"
 
 #include <algorithm>
