@@ -155,13 +155,13 @@ SatFaceQuery query_faces(const ConvexHull& faces, const ConvexHull& other,
   return best;
 }
 
+// An edge's arc on the Gauss map, A's frame (80 bytes: two of these buffers are the query's
+// stack).
 struct EdgeArc {
-  Vec3 a;      // normal of the edge's first face (B's: reversed), A's frame
+  Vec3 a;      // normal of the edge's first face (B's: reversed)
   Vec3 b;      // normal of its second face (B's: reversed)
   Vec3 b_x_a;  // b x a
-  Vec3 start;  // first end point, A's frame
-  Vec3 direction;
-  int index;
+  int index;   // HullEdge index
 };
 
 // n . v over the arc between unit normals a and b is at most max(a.v, b.v) / cos(half the arc)
@@ -219,12 +219,7 @@ int collect_arcs(const ConvexHull& hull, const Transform& pose, bool is_b, const
     }
     const Vec3 a = sign * (rotation * local_a);
     const Vec3 b = sign * (rotation * local_b);
-    out[std::size_t(count++)] = {a,
-                                 b,
-                                 b.cross(a),
-                                 rotation * local_start + pose.translation,
-                                 rotation * (hull.vertex(edge.vertex[1]) - local_start),
-                                 e};
+    out[std::size_t(count++)] = {a, b, b.cross(a), e};
   }
   return count;
 }
@@ -241,21 +236,28 @@ SatEdgeQuery query_edges(const ConvexHull& a, const ConvexHull& b, const Transfo
       count_a == 0 ? 0 : collect_arcs(b, b_in_a, true, a_seen_from_b, threshold, use_bound, arcs_b);
   pairs_tested = count_a * count_b;
   SatEdgeQuery best;
+  const Mat3 rotation = b_in_a.rotation.toRotationMatrix();
   for (int j = 0; j < count_b; ++j) {
     const EdgeArc& eb = arcs_b[std::size_t(j)];
+    const HullEdge& edge_b = b.edges()[std::size_t(eb.index)];
+    const Vec3 start_b = rotation * b.vertex(edge_b.vertex[0]) + b_in_a.translation;
+    const Vec3 direction_b = rotation * (b.vertex(edge_b.vertex[1]) - b.vertex(edge_b.vertex[0]));
     for (int i = 0; i < count_a; ++i) {
       const EdgeArc& ea = arcs_a[std::size_t(i)];
       if (!arcs_intersect(ea.a, ea.b, ea.b_x_a, eb.a, eb.b, eb.b_x_a))
         continue;
-      Vec3 axis = ea.direction.cross(eb.direction);
+      const HullEdge& edge_a = a.edges()[std::size_t(ea.index)];
+      const Vec3& start_a = a.vertex(edge_a.vertex[0]);
+      const Vec3 direction_a = a.vertex(edge_a.vertex[1]) - start_a;
+      Vec3 axis = direction_a.cross(direction_b);
       const Real length = axis.norm();
-      if (!(length > kMinCrossSine * ea.direction.norm() * eb.direction.norm()))
+      if (!(length > kMinCrossSine * direction_a.norm() * direction_b.norm()))
         continue;
       axis /= length;
       // Away from A's centre (the local origin).
-      if (axis.dot(ea.start) < 0)
+      if (axis.dot(start_a) < 0)
         axis = -axis;
-      const Real separation = axis.dot(eb.start - ea.start);
+      const Real separation = axis.dot(start_b - start_a);
       if (separation > best.separation)
         best = {ea.index, eb.index, axis, separation};
     }
