@@ -116,7 +116,9 @@ constexpr PairFunction xvc = flipped<convex_convex>;
 // collide_table[type of A][type of B]: `as<f>` runs f as written, `fl<f>` runs f with the
 // arguments swapped and mirrors its answer, `same<f>` does one or the other for two shapes of one
 // type; sphere_sphere is called as it is (symmetric by construction). cvx / xvc: the generic
-// GJK/EPA pair (convex_pairs.cpp), as written / flipped. Planes
+// GJK/EPA pair (convex_pairs.cpp), as written / flipped; hull-hull has its own separating-axis
+// pair (hull_hull_sat.cpp: faster than GJK+EPA and exact, see docs/narrow-phase-benchmark.md).
+// Planes
 // and meshes are static, so plane-plane, plane-mesh and mesh-mesh never need contacts.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
@@ -126,7 +128,7 @@ constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount>
   /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>}},
   /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>}},
   /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
-  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<convex_convex>,    as<convex_mesh>, fl<compound_any>}},
+  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<hull_hull>,        as<convex_mesh>, fl<compound_any>}},
   /* mesh     */ {{fl<convex_mesh>,   fl<convex_mesh>,    fl<convex_mesh>,        no_contact,            fl<convex_mesh>,          fl<convex_mesh>,        no_contact,      fl<compound_any>}},
   /* compound */ {{as<compound_any>,  as<compound_any>,   as<compound_any>,       as<compound_any>,      as<compound_any>,         as<compound_any>,       as<compound_any>, same<compound_any>}},
 }};

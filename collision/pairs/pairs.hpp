@@ -61,6 +61,11 @@ int capsule_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
 int hull_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                Real margin, Manifold& out);
 
+// hull_hull_sat.cpp: two hulls by the separating-axis test with face clipping (Gregorius, GDC
+// 2013); hulls too big for its buffers go to convex_convex.
+int hull_hull(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+              Real margin, Manifold& out);
+
 // mesh_pairs.cpp: a convex shape (sphere, box, capsule) against a static triangle mesh.
 int convex_mesh(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                 Real margin, Manifold& out);

@@ -20,7 +20,9 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -30,6 +32,7 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
 #include "collision/sphere_batch.hpp"
 
 namespace {
@@ -306,6 +309,125 @@ void BM_SphereSphereArray_Bullet(benchmark::State& state) {
     dispatcher.releaseManifold(manifold);
 }
 
+// ---- 6. hull-hull manifolds: SAT vs GJK+EPA vs Bullet's polyhedral SAT ----------------------
+// The 43-vertex hull pair on the poses of case 4 (penetrating, centres 0.1 to 0.5 of the sum of
+// bounding radii apart), on shallow poses (shallow_hull_poses: touching, sunk by up to 1 %) and
+// on the separated poses of case 3 (1.05 to 1.5). Every case builds the whole manifold:
+//   tumble SAT      detail::hull_hull (hull_hull_sat.cpp: face and Gauss-map-pruned edge queries,
+//                   face clipping, reduction to 4 points);
+//   tumble GJK+EPA  detail::convex_convex (convex_pairs.cpp: GJK, EPA, feature clipping);
+//   Bullet SAT      btPolyhedralContactClipping::findSeparatingAxis + clipHullAgainstHull on
+//                   btConvexHullShape with initializePolyhedralFeatures() (margin 0, contact
+//                   range [-1e30, 0] as btConvexConvexAlgorithm passes with a zero breaking
+//                   threshold).
+
+// Shallow contacts: B comes in from a random direction with a random orientation until the
+// hulls touch (bisection on GJK's distance), then sinks by up to 1 % of the hull's bounding
+// radius: the resting and sliding contacts a simulation mostly sees.
+std::vector<PosePair> shallow_hull_poses(std::uint64_t seed) {
+  const Shape hull = Shape::convex_hull(hull43());
+  const Real radius = bounding_radius(hull);
+  Rng rng(seed);
+  std::uniform_real_distribution<Real> sink(0, 0.01 * radius);
+  std::vector<PosePair> out;
+  for (int i = 0; i < kPoses; ++i) {
+    const Transform a{Vec3::Zero(), rotation(rng)};
+    const Vec3 direction = unit_vector(rng);
+    const Quat turn = rotation(rng);
+    Real inside = 0;
+    Real apart = 2 * radius + 1;
+    for (int k = 0; k < 60; ++k) {
+      const Real middle = 0.5 * (inside + apart);
+      const GjkResult g = gjk(ConvexSupport::of(hull, a),
+                              ConvexSupport::of(hull, Transform{direction * middle, turn}));
+      (g.status == GjkStatus::intersecting ? inside : apart) = middle;
+    }
+    out.push_back({a, {direction * (inside - sink(rng)), turn}});
+  }
+  return out;
+}
+
+void run_tumble_hull_pair(benchmark::State& state, detail::PairFunction pair, Real low, Real high,
+                          std::uint64_t seed) {
+  const Shape hull = Shape::convex_hull(hull43());
+  const auto p =
+      low < 0 ? shallow_hull_poses(seed) : poses(low, high, 2 * bounding_radius(hull), seed);
+  Manifold m;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    m = Manifold{};
+    benchmark::DoNotOptimize(pair(hull, q.a, hull, q.b, 0, m));
+  }
+  state.SetItemsProcessed(state.iterations());
+  // Outside the timed loop: the share of poses in contact and the mean number of points.
+  int touching = 0;
+  int points = 0;
+  for (const PosePair& q : p) {
+    m = Manifold{};
+    const int count = pair(hull, q.a, hull, q.b, 0, m);
+    touching += count > 0 ? 1 : 0;
+    points += count;
+  }
+  state.counters["touching"] = Real(touching) / Real(p.size());
+  state.counters["points"] = Real(points) / Real(std::max(touching, 1));
+}
+
+void run_bullet_hull_sat(benchmark::State& state, Real low, Real high, std::uint64_t seed) {
+  const auto hull = hull43();
+  const auto shape = bullet_hull(*hull);
+  shape->initializePolyhedralFeatures();
+  const btConvexPolyhedron& polyhedron = *shape->getConvexPolyhedron();
+  const auto p =
+      low < 0 ? shallow_hull_poses(seed) : poses(low, high, 2 * hull->bounding_radius(), seed);
+  btVertexArray vertices_1;
+  btVertexArray vertices_2;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    const btTransform ta = to_bullet(q.a);
+    const btTransform tb = to_bullet(q.b);
+    CountingResult result;
+    btVector3 axis;
+    if (btPolyhedralContactClipping::findSeparatingAxis(polyhedron, polyhedron, ta, tb, axis,
+                                                        result)) {
+      vertices_1.resize(0);
+      btPolyhedralContactClipping::clipHullAgainstHull(
+          axis, polyhedron, polyhedron, ta, tb, btScalar(-1e30), 0, vertices_1, vertices_2, result);
+    }
+    benchmark::DoNotOptimize(result.points);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_HullHull43Penetrating_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, 0.1, 0.5, 2);
+}
+void BM_HullHull43Penetrating_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, 0.1, 0.5, 2);
+}
+void BM_HullHull43Penetrating_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, 0.1, 0.5, 2);
+}
+void BM_HullHull43Shallow_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, -1, -1, 6);
+}
+void BM_HullHull43Shallow_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, -1, -1, 6);
+}
+void BM_HullHull43Shallow_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, -1, -1, 6);
+}
+void BM_HullHull43Separated_TumbleSat(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::hull_hull, 1.05, 1.5, 2);
+}
+void BM_HullHull43Separated_TumbleGjkEpa(benchmark::State& state) {
+  run_tumble_hull_pair(state, detail::convex_convex, 1.05, 1.5, 2);
+}
+void BM_HullHull43Separated_BulletSat(benchmark::State& state) {
+  run_bullet_hull_sat(state, 1.05, 1.5, 2);
+}
+
 BENCHMARK(BM_BoxBoxManifold_Tumble);
 BENCHMARK(BM_BoxBoxManifold_Bullet);
 BENCHMARK(BM_GjkSeparatedBoxes_Tumble);
@@ -317,6 +439,15 @@ BENCHMARK(BM_GjkEpaPenetratingHulls43_Bullet);
 BENCHMARK(BM_SphereSphereArray_Tumble);
 BENCHMARK(BM_SphereSphereArray_TumbleBatch);
 BENCHMARK(BM_SphereSphereArray_Bullet);
+BENCHMARK(BM_HullHull43Penetrating_TumbleSat);
+BENCHMARK(BM_HullHull43Penetrating_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Penetrating_BulletSat);
+BENCHMARK(BM_HullHull43Shallow_TumbleSat);
+BENCHMARK(BM_HullHull43Shallow_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Shallow_BulletSat);
+BENCHMARK(BM_HullHull43Separated_TumbleSat);
+BENCHMARK(BM_HullHull43Separated_TumbleGjkEpa);
+BENCHMARK(BM_HullHull43Separated_BulletSat);
 
 }  // namespace
 
