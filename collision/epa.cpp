@@ -319,6 +319,23 @@ Real core_size(const ConvexSupport& s) {
   return (high - low).norm();
 }
 
+// Hill climbing on big hulls starts from the face's own support points: the new support point
+// is near them, as the face normal is near theirs. Of the three, the one farthest along the
+// normal on A (and against it on B) is the best start.
+void set_hints(detail::PairInA& pair, const Polytope& poly, const Face& face) {
+  const Vertex* best_a = &poly.vertex[std::size_t(face.v[0])];
+  const Vertex* best_b = best_a;
+  for (int k = 1; k < 3; ++k) {
+    const Vertex& p = poly.vertex[std::size_t(face.v[std::size_t(k)])];
+    if (p.a.dot(face.normal) > best_a->a.dot(face.normal))
+      best_a = &p;
+    if (p.b.dot(face.normal) < best_b->b.dot(face.normal))
+      best_b = &p;
+  }
+  pair.hint_a = best_a->index_a;
+  pair.hint_b = best_b->index_b;
+}
+
 }  // namespace
 
 EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk_result,
@@ -377,10 +394,7 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
       break;
     const Face& best = poly.face[std::size_t(closest)];
     const Real best_distance = poly.distance[std::size_t(closest)];
-    // Hill climbing on big hulls starts from the face's own support points: the new support
-    // point is near them, as the face normal is near theirs.
-    pair.hint_a = poly.vertex[std::size_t(best.v[0])].index_a;
-    pair.hint_b = poly.vertex[std::size_t(best.v[0])].index_b;
+    set_hints(pair, poly, best);
     const Vertex w = to_vertex(pair.support(best.normal));
     const Real upper = w.w.dot(best.normal);
     if (upper < best_upper) {
