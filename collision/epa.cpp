@@ -18,10 +18,12 @@
 // comes from such flips).
 //
 // Curved shapes (cylinders): the polytope closes in on a curved patch only slowly and rounding
-// stops it near 1e-10 of its size. The loop therefore also ends when the best upper bound (the
-// smallest support value along any face normal tried, a feasible depth) is within the curved
-// tolerance of the closest face's distance (a lower bound); the answer is then the upper bound's
-// normal refined by a few support steps (refine_on_curved_patch below).
+// in its ever smaller faces stops it near 1e-10 of its size. The loop therefore also ends when
+// the best upper bound (the smallest support value along any face normal tried, a feasible
+// depth) is within the curved tolerance of the closest face's distance (a lower bound), and
+// answers the upper bound. Where the polytope cannot close in at all (near-coaxial cylinders:
+// the depth barely varies over all normals around the axis), the fallback's upper bound is
+// refined by a descent of the support function (refine_upper_bound below).
 #include "collision/epa.hpp"
 
 #include <algorithm>
@@ -336,6 +338,103 @@ void set_hints(detail::PairInA& pair, const Polytope& poly, const Face& face) {
   pair.hint_b = best_b->index_b;
 }
 
+// Cylinders: the only cores whose support map is curved (spheres and capsules are a point and a
+// segment here).
+bool has_curved_support(const ConvexSupport& s) {
+  return s.shape != nullptr && s.shape->type == ShapeType::cylinder;
+}
+
+// An upper bound on the core depth: the support value along a unit normal (a translation by it
+// along the normal separates the cores).
+struct UpperBound {
+  Real value;
+  Vec3 normal;
+  Vertex vertex;
+};
+
+UpperBound support_bound(detail::PairInA& pair, const Vec3& normal) {
+  const Vertex w = to_vertex(pair.support(normal));
+  return {w.w.dot(normal), normal, w};
+}
+
+// Smallest norm of a point in the convex hull of 2-D points (brute force over the few points,
+// segments and triangles); zero when the hull holds the origin.
+Eigen::Vector2d min_norm_point(const std::array<Eigen::Vector2d, 5>& p) {
+  Eigen::Vector2d best = p[0];
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p[i].squaredNorm() < best.squaredNorm())
+      best = p[i];
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const Eigen::Vector2d e = p[j] - p[i];
+      const Real len2 = e.squaredNorm();
+      const Real t = len2 > 0 ? -p[i].dot(e) / len2 : 0;
+      if (t > 0 && t < 1 && (p[i] + t * e).squaredNorm() < best.squaredNorm())
+        best = p[i] + t * e;
+      for (std::size_t k = j + 1; k < p.size(); ++k) {
+        const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+          return u.x() * v.y() - u.y() * v.x();
+        };
+        const Real c1 = cross(p[j] - p[i], -p[i]);
+        const Real c2 = cross(p[k] - p[j], -p[j]);
+        const Real c3 = cross(p[i] - p[k], -p[k]);
+        if ((c1 > 0 && c2 > 0 && c3 > 0) || (c1 < 0 && c2 < 0 && c3 < 0))
+          return Eigen::Vector2d::Zero();
+      }
+    }
+  }
+  return best;
+}
+
+// Refines an upper bound of the depth on a curved patch by minimising the support function
+// h(n) over unit normals (the depth is the minimum of h). h is convex with kinks (along a
+// cylinder's side its subdifferential is the whole side segment), so plain gradient steps
+// zigzag; this follows gradient sampling (Burke, Lewis and Overton, "A robust gradient sampling
+// algorithm for nonsmooth, nonconvex optimization", SIAM J. Optim. 15(3), 2005): each round
+// takes the support points at four normals tilted by a sampling radius (the gradients of h
+// nearby), and moves the normal against the point of smallest tangential norm in their hull;
+// the step doubles on success and halves on failure, and the sampling radius shrinks tenfold
+// when that hull holds the origin (stationary at this scale). Every support value tried is a
+// feasible depth and only the smallest is kept. Used where the polytope cannot close in:
+// near-coaxial cylinders, whose depth varies by little over a wide range of normals, so that
+// EPA would have to refine the whole circle.
+void refine_upper_bound(detail::PairInA& pair, UpperBound& best) {
+  constexpr int kBudget = 400;                  // support calls
+  constexpr Real kSmallestAngle = Real(1e-13);  // [rad]
+  int calls = 0;
+  Real sampling = Real(1e-6);  // [rad]
+  Real step = Real(0.05);      // [rad]
+  while (calls + 5 <= kBudget && sampling > kSmallestAngle && step > kSmallestAngle) {
+    Vec3 t1;
+    Vec3 t2;
+    orthonormal_basis(best.normal, t1, t2);
+    std::array<Eigen::Vector2d, 5> gradients;
+    gradients[0] = {best.vertex.w.dot(t1), best.vertex.w.dot(t2)};
+    UpperBound probe_best = best;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 tilt = (k < 2 ? t1 : t2) * (k % 2 == 0 ? sampling : -sampling);
+      const UpperBound probe = support_bound(pair, (best.normal + tilt).normalized());
+      gradients[std::size_t(k + 1)] = {probe.vertex.w.dot(t1), probe.vertex.w.dot(t2)};
+      if (probe.value < probe_best.value)
+        probe_best = probe;
+    }
+    calls += 4;
+    const Eigen::Vector2d g = min_norm_point(gradients);
+    if (!(g.norm() > 0)) {
+      best = probe_best;
+      sampling *= Real(0.1);
+      continue;
+    }
+    const Vec3 descent = -(g.x() * t1 + g.y() * t2).normalized();
+    const UpperBound trial =
+        support_bound(pair, best.normal * std::cos(step) + descent * std::sin(step));
+    ++calls;
+    const bool moved = trial.value < probe_best.value;
+    best = moved ? trial : probe_best;
+    step *= moved ? Real(2) : Real(0.5);
+    sampling = std::min(sampling, step);
+  }
+}
+
 }  // namespace
 
 EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk_result,
@@ -375,6 +474,9 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
   build_tetrahedron(poly);
 
   const Real tolerance = settings.relative_tolerance * scale;
+  const bool curved = has_curved_support(a) || has_curved_support(b);
+  const Real curved_tolerance = settings.curved_relative_tolerance * scale;
+  bool answer_upper_bound = false;
   result.status = EpaStatus::max_iterations;
   int closest = -1;
   int iteration = 0;
@@ -404,6 +506,13 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
     }
     if (upper - best_distance <= tolerance) {
       result.status = EpaStatus::converged;
+      break;
+    }
+    if (curved && best_upper - best_distance <= curved_tolerance) {
+      // The depth is bracketed by the closest face (a lower bound) and the best upper bound
+      // within the curved tolerance; the upper bound is the closer one on a curved patch.
+      result.status = EpaStatus::converged;
+      answer_upper_bound = true;
       break;
     }
     if (poly.vertex_count >= kEpaMaxVertices) {
@@ -486,16 +595,20 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
     // the depth). The index from the last iteration may be stale after the face list changed.
     closest = poly.closest_face();
   }
-  if (result.status != EpaStatus::converged && std::isfinite(best_upper) &&
-      (closest < 0 || best_upper - poly.distance[std::size_t(closest)] > tolerance)) {
+  if (answer_upper_bound ||
+      (result.status != EpaStatus::converged && std::isfinite(best_upper) &&
+       (closest < 0 || best_upper - poly.distance[std::size_t(closest)] > tolerance))) {
     // Fallback for a polytope that has not closed in (curved shapes use up the iterations):
     // the best upper bound, which on a smooth surface is within O(angle^2) of the depth while
     // the face distance is only within O(angle). Its witnesses: the support point on A and
     // its translate on B's supporting plane.
-    const Vec3 normal_in_a = -best_upper_normal;
-    result.depth = std::max(best_upper, Real(0)) + radii;
+    UpperBound bound{best_upper, best_upper_normal, best_upper_vertex};
+    if (curved && !answer_upper_bound)
+      refine_upper_bound(pair, bound);
+    const Vec3 normal_in_a = -bound.normal;
+    result.depth = std::max(bound.value, Real(0)) + radii;
     result.normal = a.pose.rotate(normal_in_a);
-    result.point_a = a.pose.apply(best_upper_vertex.a - normal_in_a * a.radius);
+    result.point_a = a.pose.apply(bound.vertex.a - normal_in_a * a.radius);
     result.point_b = result.point_a + result.normal * result.depth;
     return result;
   }

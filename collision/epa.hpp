@@ -47,6 +47,12 @@ struct EpaSettings {
   // Stop when the support along the closest face's normal is within this fraction of the
   // polytope's size of the face's distance.
   Real relative_tolerance = Real(1e-12);
+  // Curved cores (cylinders): the polytope closes in on a curved patch slowly and rounding in
+  // its ever smaller faces stops it near 1e-10 of its size, so the loop also stops when the
+  // closest face's distance (a lower bound on the depth) and the smallest support value along
+  // a face normal tried (an upper bound) are within this fraction of the polytope's size, and
+  // answers the upper bound. The error is then at most this times the size.
+  Real curved_relative_tolerance = Real(1e-10);
   int max_iterations = kEpaMaxVertices - 4;
 };
 
