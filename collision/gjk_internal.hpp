@@ -75,10 +75,14 @@ inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index
       index = d.z() < 0 ? 0 : 1;
       return Vec3(0, 0, d.z() < 0 ? -shape.half_length : shape.half_length);
     case ShapeType::box: {
+      // Branch-free: the signs of a GJK direction are random, so branches mispredict. A
+      // component that is zero (also -0) picks the positive corner.
       const Vec3& h = shape.half_extents;
-      const int bits = (d.x() < 0 ? 0 : 1) | (d.y() < 0 ? 0 : 2) | (d.z() < 0 ? 0 : 4);
-      index = bits;
-      return {d.x() < 0 ? -h.x() : h.x(), d.y() < 0 ? -h.y() : h.y(), d.z() < 0 ? -h.z() : h.z()};
+      const int nx = int(d.x() < 0);
+      const int ny = int(d.y() < 0);
+      const int nz = int(d.z() < 0);
+      index = (1 - nx) | (1 - ny) << 1 | (1 - nz) << 2;
+      return {h.x() * Real(1 - 2 * nx), h.y() * Real(1 - 2 * ny), h.z() * Real(1 - 2 * nz)};
     }
     case ShapeType::cylinder: {
       const Real radial2 = d.x() * d.x() + d.y() * d.y();
