@@ -1,7 +1,8 @@
 // EPA, the expanding polytope algorithm: penetration depth and normal of two intersecting convex
 // objects from GJK's final simplex (seed 4.2.4). van den Bergen, "Proximity Queries and
 // Penetration Depth Computation on 3D Game Objects", GDC 2001; Ericson, Real-Time Collision
-// Detection, 2005, 9.5.
+// Detection, 2005, 9.5; the curved fallback's descent: Burke, Lewis and Overton, "A robust
+// gradient sampling algorithm for nonsmooth, nonconvex optimization", SIAM J. Optim. 15(3), 2005.
 //
 // CONTRACT (shared with the triangle-mesh work): call with the same two ConvexSupports that
 // gjk() was given and its result when the status is `intersecting`.
@@ -9,9 +10,12 @@
 //     normal is a unit vector from B to A (translating A by depth * normal separates them);
 //     point_a / point_b are the deepest points of A inside B and of B inside A, with
 //     point_a - point_b = -depth * normal.
-//   * status: converged       -> upper and lower bounds on the depth agree within the tolerance;
-//             max_iterations  -> fallback: the best face so far is returned; its distance is a
-//             out_of_capacity    lower bound of the depth, finite, with a unit normal;
+//   * status: converged       -> upper and lower bounds on the depth agree within the tolerance
+//                                (the curved tolerance when a core is a cylinder);
+//             max_iterations  -> fallback: the smallest upper bound found (the support value
+//             out_of_capacity    along the best normal tried, refined by a descent on curved
+//                                cores), or the closest face when that is as good; finite,
+//                                with a unit normal;
 //             degenerate      -> the Minkowski difference has no volume (e.g. two coplanar
 //                                triangles): depth = radii sum, normal = GJK's direction.
 //   Never NaN: every division is by a quantity checked positive first.
@@ -47,6 +51,12 @@ struct EpaSettings {
   // Stop when the support along the closest face's normal is within this fraction of the
   // polytope's size of the face's distance.
   Real relative_tolerance = Real(1e-12);
+  // Curved cores (cylinders): the polytope closes in on a curved patch slowly and rounding in
+  // its ever smaller faces stops it near 1e-10 of its size, so the loop also stops when the
+  // closest face's distance (a lower bound on the depth) and the smallest support value along
+  // a face normal tried (an upper bound) are within this fraction of the polytope's size, and
+  // answers the upper bound. The error is then at most this times the size.
+  Real curved_relative_tolerance = Real(1e-10);
   int max_iterations = kEpaMaxVertices - 4;
 };
 

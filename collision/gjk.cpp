@@ -63,20 +63,8 @@ namespace {
 // Relative size below which an edge, triangle or tetrahedron counts as degenerate.
 constexpr Real kDegenerate = Real(1e-14);
 
-struct Closest {
-  Vec3 v;
-  std::array<Real, 4> lambda;
-};
-
-Vec3 combine(const GjkSimplex& s, const std::array<Real, 4>& lambda) {
-  Vec3 v = Vec3::Zero();
-  for (int i = 0; i < s.count; ++i)
-    v += lambda[std::size_t(i)] * s.vertex[std::size_t(i)].w;
-  return v;
-}
-
-// Closest point to the origin on segment (i, j) of s; returns its squared distance and writes
-// the candidate (indices and weights) without changing s.
+// A sub-simplex holding the point closest to the origin: the indices of its vertices in the
+// simplex (ascending), their barycentric weights and the point's squared distance.
 struct Candidate {
   int count = 0;
   std::array<int, 3> index{};
@@ -84,36 +72,42 @@ struct Candidate {
   Real distance2 = 0;
 };
 
+// The vertex region of vertex i (at p).
+Candidate vertex_region(int i, const Vec3& p) {
+  Candidate c;
+  c.count = 1;
+  c.index[0] = i;
+  c.weight[0] = 1;
+  c.distance2 = p.squaredNorm();
+  return c;
+}
+
+// The edge region of edge (i, j) from p to p + edge, at parameter t in (0, 1).
+Candidate edge_region(int i, int j, const Vec3& p, const Vec3& edge, Real t) {
+  Candidate c;
+  c.count = 2;
+  c.index = {i, j, 0};
+  c.weight = {1 - t, t, 0};
+  c.distance2 = (p + t * edge).squaredNorm();
+  return c;
+}
+
+// Closest point to the origin on segment (i, j) of s.
 Candidate segment_candidate(const GjkSimplex& s, int i, int j) {
   const Vec3& a = s.vertex[std::size_t(i)].w;
   const Vec3& b = s.vertex[std::size_t(j)].w;
   const Vec3 ab = b - a;
   const Real len2 = ab.squaredNorm();
   const Real t_num = -a.dot(ab);
-  Candidate c;
-  c.count = 1;
-  c.weight[0] = 1;
-  if (!(len2 > 0) || t_num <= 0) {
-    // A point, or the origin behind a: a (or b when the segment is a point and b is closer).
-    c.index[0] = i;
-    c.distance2 = a.squaredNorm();
-    if (!(len2 > 0) && b.squaredNorm() < c.distance2) {
-      c.index[0] = j;
-      c.distance2 = b.squaredNorm();
-    }
-    return c;
+  if (!(len2 > 0)) {
+    // A point: the closer end.
+    return b.squaredNorm() < a.squaredNorm() ? vertex_region(j, b) : vertex_region(i, a);
   }
-  if (t_num >= len2) {
-    c.index[0] = j;
-    c.distance2 = b.squaredNorm();
-    return c;
-  }
-  const Real t = t_num / len2;
-  c.count = 2;
-  c.index = {i, j, 0};
-  c.weight = {1 - t, t, 0};
-  c.distance2 = (a + t * ab).squaredNorm();
-  return c;
+  if (t_num <= 0)
+    return vertex_region(i, a);
+  if (t_num >= len2)
+    return vertex_region(j, b);
+  return edge_region(i, j, a, ab, t_num / len2);
 }
 
 // Ericson's ClosestPtPointTriangle with the origin as the point, over vertices i, j, k of s.
@@ -132,64 +126,31 @@ Candidate triangle_candidate(const GjkSimplex& s, int i, int j, int k) {
         best = other;
     return best;
   }
-  Candidate out;
   const Real d1 = -ab.dot(a);
   const Real d2 = -ac.dot(a);
-  if (d1 <= 0 && d2 <= 0) {
-    out.count = 1;
-    out.index[0] = i;
-    out.weight[0] = 1;
-    out.distance2 = a.squaredNorm();
-    return out;
-  }
+  if (d1 <= 0 && d2 <= 0)
+    return vertex_region(i, a);
   const Real d3 = -ab.dot(b);
   const Real d4 = -ac.dot(b);
-  if (d3 >= 0 && d4 <= d3) {
-    out.count = 1;
-    out.index[0] = j;
-    out.weight[0] = 1;
-    out.distance2 = b.squaredNorm();
-    return out;
-  }
+  if (d3 >= 0 && d4 <= d3)
+    return vertex_region(j, b);
   const Real vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const Real t = d1 / (d1 - d3);
-    out.count = 2;
-    out.index = {i, j, 0};
-    out.weight = {1 - t, t, 0};
-    out.distance2 = (a + t * ab).squaredNorm();
-    return out;
-  }
+  if (vc <= 0 && d1 >= 0 && d3 <= 0)
+    return edge_region(i, j, a, ab, d1 / (d1 - d3));
   const Real d5 = -ab.dot(c);
   const Real d6 = -ac.dot(c);
-  if (d6 >= 0 && d5 <= d6) {
-    out.count = 1;
-    out.index[0] = k;
-    out.weight[0] = 1;
-    out.distance2 = c.squaredNorm();
-    return out;
-  }
+  if (d6 >= 0 && d5 <= d6)
+    return vertex_region(k, c);
   const Real vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const Real t = d2 / (d2 - d6);
-    out.count = 2;
-    out.index = {i, k, 0};
-    out.weight = {1 - t, t, 0};
-    out.distance2 = (a + t * ac).squaredNorm();
-    return out;
-  }
+  if (vb <= 0 && d2 >= 0 && d6 <= 0)
+    return edge_region(i, k, a, ac, d2 / (d2 - d6));
   const Real va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const Real t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    out.count = 2;
-    out.index = {j, k, 0};
-    out.weight = {1 - t, t, 0};
-    out.distance2 = (b + t * (c - b)).squaredNorm();
-    return out;
-  }
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return edge_region(j, k, b, c - b, (d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const Real denom = va + vb + vc;
   const Real v = vb / denom;
   const Real w = vc / denom;
+  Candidate out;
   out.count = 3;
   out.index = {i, j, k};
   out.weight = {1 - v - w, v, w};
@@ -197,29 +158,40 @@ Candidate triangle_candidate(const GjkSimplex& s, int i, int j, int k) {
   return out;
 }
 
+// The point of the candidate, summed in the order the simplex will hold its vertices.
+Vec3 candidate_point(const GjkSimplex& s, const Candidate& c) {
+  Vec3 v = Vec3::Zero();
+  for (int n = 0; n < c.count; ++n)
+    v += c.weight[std::size_t(n)] * s.vertex[std::size_t(c.index[std::size_t(n)])].w;
+  return v;
+}
+
+// Keeps only the candidate's vertices, in place (its indices ascend, so no vertex is
+// overwritten before it is moved).
 void apply(GjkSimplex& s, std::array<Real, 4>& lambda, const Candidate& c) {
-  std::array<SimplexVertex, 4> kept{};
   for (int n = 0; n < c.count; ++n) {
-    kept[std::size_t(n)] = s.vertex[std::size_t(c.index[std::size_t(n)])];
+    const int from = c.index[std::size_t(n)];
+    if (from != n)
+      s.vertex[std::size_t(n)] = s.vertex[std::size_t(from)];
     lambda[std::size_t(n)] = c.weight[std::size_t(n)];
   }
-  s.vertex = kept;
   s.count = c.count;
 }
 
-// Reduces s to the smallest sub-simplex holding the point closest to the origin. Returns true
-// when the origin is inside a (non-degenerate) tetrahedron.
-bool reduce(GjkSimplex& s, std::array<Real, 4>& lambda) {
+// The smallest sub-simplex of s holding the point closest to the origin. Returns false when
+// the origin is inside s, a (non-degenerate) tetrahedron; `inside_weights` then receives the
+// origin's barycentric weights (for the witness points).
+bool closest_sub_simplex(const GjkSimplex& s, Candidate& out, std::array<Real, 4>& inside_weights) {
   switch (s.count) {
     case 1:
-      lambda[0] = 1;
-      return false;
+      out = vertex_region(0, s.vertex[0].w);
+      return true;
     case 2:
-      apply(s, lambda, segment_candidate(s, 0, 1));
-      return false;
+      out = segment_candidate(s, 0, 1);
+      return true;
     case 3:
-      apply(s, lambda, triangle_candidate(s, 0, 1, 2));
-      return false;
+      out = triangle_candidate(s, 0, 1, 2);
+      return true;
     default:
       break;
   }
@@ -232,8 +204,7 @@ bool reduce(GjkSimplex& s, std::array<Real, 4>& lambda) {
   const bool flat = !(std::abs(volume6) > kDegenerate * size * size * size);
   // Faces (i, j, k) with the opposite vertex l.
   constexpr int kFaces[4][4] = {{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}};
-  Candidate best;
-  best.distance2 = std::numeric_limits<Real>::infinity();
+  out.distance2 = std::numeric_limits<Real>::infinity();
   bool any_outside = false;
   for (const auto& f : kFaces) {
     const Vec3& p = s.vertex[std::size_t(f[0])].w;
@@ -245,26 +216,27 @@ bool reduce(GjkSimplex& s, std::array<Real, 4>& lambda) {
     if (!outside)
       continue;
     any_outside = true;
-    const Candidate c = triangle_candidate(s, f[0], f[1], f[2]);
-    if (c.distance2 < best.distance2)
-      best = c;
+    const Candidate candidate = triangle_candidate(s, f[0], f[1], f[2]);
+    if (candidate.distance2 < out.distance2)
+      out = candidate;
   }
-  if (!any_outside) {
-    // Barycentric weights of the origin, for the witness points.
-    const Real va = (b).dot((c).cross(d));
-    const Real vb = -(a).dot((c).cross(d));
-    const Real vc = (a).dot((b).cross(d));
-    const Real vd = -(a).dot((b).cross(c));
-    const Real total = va + vb + vc + vd;
-    if (total != 0) {
-      lambda = {va / total, vb / total, vc / total, vd / total};
-    } else {
-      lambda = {Real(0.25), Real(0.25), Real(0.25), Real(0.25)};
-    }
+  if (any_outside)
     return true;
+  const Real va = (b).dot((c).cross(d));
+  const Real vb = -(a).dot((c).cross(d));
+  const Real vc = (a).dot((b).cross(d));
+  const Real vd = -(a).dot((b).cross(c));
+  const Real total = va + vb + vc + vd;
+  if (total != 0) {
+    inside_weights = {va / total, vb / total, vc / total, vd / total};
+  } else {
+    inside_weights = {Real(0.25), Real(0.25), Real(0.25), Real(0.25)};
   }
-  apply(s, lambda, best);
   return false;
+}
+
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
 }  // namespace
@@ -279,7 +251,7 @@ GjkResult gjk(const ConvexSupport& a, const ConvexSupport& b, GjkCache* cache,
     pair.hint_a = cache->index_a;
     pair.hint_b = cache->index_b;
   }
-  if (!(direction.squaredNorm() > 0) || !direction.allFinite())
+  if (!(direction.squaredNorm() > 0) || !finite(direction))
     direction = Vec3::UnitX();
 
   GjkSimplex& s = result.simplex;
@@ -299,7 +271,7 @@ GjkResult gjk(const ConvexSupport& a, const ConvexSupport& b, GjkCache* cache,
       break;
     }
     const SimplexVertex w = pair.support(-v);
-    if (!w.w.allFinite()) {
+    if (!finite(w.w)) {
       status = GjkStatus::degenerate;
       break;
     }
@@ -316,28 +288,29 @@ GjkResult gjk(const ConvexSupport& a, const ConvexSupport& b, GjkCache* cache,
       status = GjkStatus::separated;
       break;
     }
-    const GjkSimplex previous = s;
-    const std::array<Real, 4> previous_lambda = lambda;
+    // w goes into the slot after the simplex; the simplex takes it only once the new closest
+    // point is known to be closer, so an oscillation leaves the previous simplex as it was.
     s.vertex[std::size_t(s.count)] = w;
     ++s.count;
     max_w2 = std::max(max_w2, w.w.squaredNorm());
-    if (reduce(s, lambda)) {
+    Candidate candidate;
+    if (!closest_sub_simplex(s, candidate, lambda)) {
       status = GjkStatus::intersecting;
       v = Vec3::Zero();
       vv = 0;
       ++iteration;
       break;
     }
-    const Vec3 next = combine(s, lambda);
+    const Vec3 next = candidate_point(s, candidate);
     const Real next_vv = next.squaredNorm();
     // (3) oscillation: rounding stopped the strict decrease; keep the previous simplex.
     if (!(next_vv < vv)) {
-      s = previous;
-      lambda = previous_lambda;
+      --s.count;
       status = GjkStatus::separated;
       ++iteration;
       break;
     }
+    apply(s, lambda, candidate);
     v = next;
     vv = next_vv;
   }

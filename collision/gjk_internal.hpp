@@ -3,10 +3,52 @@
 // rotation and one on B costs two matrix-vector products.
 #pragma once
 
+#include <span>
+
 #include "collision/convex_hull.hpp"
 #include "collision/gjk.hpp"
 
 namespace tumble::detail {
+
+// Index of a hull vertex farthest along d. Big hulls climb the vertex graph from `start` and
+// move to the first neighbour that is higher (a convex polytope has no local maxima, and the
+// strict increase ends the climb): from a nearby start, as GJK's and EPA's previous support
+// vertices are, that reads fewer neighbours than the steepest step would. Small hulls are
+// scanned. Inline here so the support call of GJK and EPA has no call in its inner loop.
+inline int hull_support_index(const ConvexHull& hull, const Vec3& d, int start) {
+  const std::span<const Vec3> vertices = hull.vertices();
+  const int n = int(vertices.size());
+  if (n <= kHullScanLimit) {
+    int best = 0;
+    Real best_value = vertices[0].dot(d);
+    for (int i = 1; i < n; ++i) {
+      const Real value = vertices[std::size_t(i)].dot(d);
+      if (value > best_value) {
+        best_value = value;
+        best = i;
+      }
+    }
+    return best;
+  }
+  const std::span<const int> neighbours = hull.neighbours();
+  int current = (start >= 0 && start < n) ? start : 0;
+  Real current_value = vertices[std::size_t(current)].dot(d);
+  int k = hull.neighbour_start(current);
+  int end = hull.neighbour_start(current + 1);
+  while (k < end) {
+    const int v = neighbours[std::size_t(k)];
+    const Real value = vertices[std::size_t(v)].dot(d);
+    if (value > current_value) {
+      current = v;
+      current_value = value;
+      k = hull.neighbour_start(current);
+      end = hull.neighbour_start(current + 1);
+    } else {
+      ++k;
+    }
+  }
+  return current;
+}
 
 // Core support of `s` in its own local frame; `index` is the hill-climbing hint in and the
 // feature index out.
@@ -33,10 +75,14 @@ inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index
       index = d.z() < 0 ? 0 : 1;
       return Vec3(0, 0, d.z() < 0 ? -shape.half_length : shape.half_length);
     case ShapeType::box: {
+      // Branch-free: the signs of a GJK direction are random, so branches mispredict. A
+      // component that is zero (also -0) picks the positive corner.
       const Vec3& h = shape.half_extents;
-      const int bits = (d.x() < 0 ? 0 : 1) | (d.y() < 0 ? 0 : 2) | (d.z() < 0 ? 0 : 4);
-      index = bits;
-      return {d.x() < 0 ? -h.x() : h.x(), d.y() < 0 ? -h.y() : h.y(), d.z() < 0 ? -h.z() : h.z()};
+      const int nx = int(d.x() < 0);
+      const int ny = int(d.y() < 0);
+      const int nz = int(d.z() < 0);
+      index = (1 - nx) | (1 - ny) << 1 | (1 - nz) << 2;
+      return {h.x() * Real(1 - 2 * nx), h.y() * Real(1 - 2 * ny), h.z() * Real(1 - 2 * nz)};
     }
     case ShapeType::cylinder: {
       const Real radial2 = d.x() * d.x() + d.y() * d.y();
@@ -49,7 +95,7 @@ inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index
       return {0, 0, z};
     }
     case ShapeType::hull: {
-      index = shape.hull->support_index(d, index);
+      index = hull_support_index(*shape.hull, d, index);
       return shape.hull->vertex(index);
     }
     case ShapeType::plane:
