@@ -18,21 +18,23 @@ namespace {
 
 constexpr std::size_t kBlock = 64;
 
-// One block of pairs' results: contact position, normal (from B to A), depth, and whether the
-// pair is within the margin (as a Real, so the loop that fills it has one lane width).
+// One block of pairs' results, for the compact form.
 struct Block {
-  std::array<Real, kBlock> px, py, pz, nx, ny, nz, depth, keep;
+  std::array<Real, kBlock> px, py, pz, nx, ny, nz, depth;
 };
 
-// sphere_pairs.cpp's sphere_sphere (what collide() runs for two spheres) for each pair of the
-// block, operation for operation, so the results match it bit for bit; written without branches
+// sphere_pairs.cpp's sphere_sphere (what collide() runs for two spheres) for each of `count`
+// pairs, operation for operation, so the results match it bit for bit; written without branches
 // so that it vectorises, centres and radii fetched by gathers. Compiled for AVX-512, AVX2 and the
 // baseline, picked at load time by the CPU (GCC function multi-versioning): wider lanes, the
-// same IEEE operations in the same order, so the same bits on every machine.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void contacts_of_block(
+// same IEEE operations in the same order, so the same bits on every machine. Returns the number
+// of pairs whose centres coincide (or are NaN/inf apart): their normal is set by fix_degenerate.
+__attribute__((target_clones("avx512f", "avx2", "default"))) int contacts_of_pairs(
     const Real* __restrict x, const Real* __restrict y, const Real* __restrict z,
-    const Real* __restrict r, const SpherePair* __restrict pairs, std::size_t count, Real margin,
-    Block& __restrict k) {
+    const Real* __restrict r, const SpherePair* __restrict pairs, std::size_t count,
+    Real* __restrict out_depth, Real* __restrict out_nx, Real* __restrict out_ny,
+    Real* __restrict out_nz, Real* __restrict out_px, Real* __restrict out_py,
+    Real* __restrict out_pz) {
   int degenerate = 0;
   constexpr Real kLargest = std::numeric_limits<Real>::max();
   for (std::size_t j = 0; j < count; ++j) {
@@ -44,27 +46,33 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void contacts_of_bl
     const Real length = std::sqrt(dx * dx + dy * dy + dz * dz);
     const bool has_direction = (length > 0) & (length <= kLargest);
     // Divide in every lane, select after (a lane without direction divides by 0 or inf, and
-    // its quotient is thrown away). Such a lane gets its normal from the rare fix-up below.
+    // its quotient is thrown away).
     const Real qx = dx / length, qy = dy / length, qz = dz / length;
     const Real nx = has_direction ? qx : Real(0);
     const Real ny = has_direction ? qy : Real(0);
     const Real nz = has_direction ? qz : Real(1);
     degenerate += has_direction ? 0 : 1;
     const Real depth = ar + br - length;
-    k.px[j] = ((ax - nx * ar) + (bx + nx * br)) * Real(0.5);
-    k.py[j] = ((ay - ny * ar) + (by + ny * br)) * Real(0.5);
-    k.pz[j] = ((az - nz * ar) + (bz + nz * br)) * Real(0.5);
-    k.nx[j] = nx;
-    k.ny[j] = ny;
-    k.nz[j] = nz;
-    k.depth[j] = depth;
-    // NaN fails the comparison: no contact, as in collide().
-    k.keep[j] = depth >= -margin ? Real(1) : Real(0);
+    out_px[j] = ((ax - nx * ar) + (bx + nx * br)) * Real(0.5);
+    out_py[j] = ((ay - ny * ar) + (by + ny * br)) * Real(0.5);
+    out_pz[j] = ((az - nz * ar) + (bz + nz * br)) * Real(0.5);
+    out_nx[j] = nx;
+    out_ny[j] = ny;
+    out_nz[j] = nz;
+    out_depth[j] = depth;
   }
-  if (degenerate == 0)
-    return;
-  // Coincident centres (or a NaN/inf offset): the smaller sphere (of equal ones the
-  // lexicographically lower centre) is pushed up the z axis, down otherwise.
+  return degenerate;
+}
+
+// Coincident centres (or a NaN/inf offset): the smaller sphere (of equal ones the
+// lexicographically lower centre) is pushed up the z axis, down otherwise. Rare, so scalar.
+void fix_degenerate(const SphereArrays& s, const SpherePair* pairs, std::size_t count, Real* nz,
+                    Real* pz) {
+  constexpr Real kLargest = std::numeric_limits<Real>::max();
+  const Real* x = s.x;
+  const Real* y = s.y;
+  const Real* z = s.z;
+  const Real* r = s.radius;
   for (std::size_t j = 0; j < count; ++j) {
     const std::int32_t ia = pairs[j].a;
     const std::int32_t ib = pairs[j].b;
@@ -75,13 +83,27 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void contacts_of_bl
     const bool lower =
         x[ia] < x[ib] || (x[ia] == x[ib] && (y[ia] < y[ib] || (y[ia] == y[ib] && z[ia] <= z[ib])));
     const bool goes_up = r[ia] != r[ib] ? r[ia] < r[ib] : lower;
-    const Real nz = goes_up ? Real(1) : Real(-1);
-    k.nz[j] = nz;
-    k.pz[j] = ((z[ia] - nz * r[ia]) + (z[ib] + nz * r[ib])) * Real(0.5);
+    nz[j] = goes_up ? Real(1) : Real(-1);
+    pz[j] = ((z[ia] - nz[j] * r[ia]) + (z[ib] + nz[j] * r[ib])) * Real(0.5);
   }
 }
 
 }  // namespace
+
+std::size_t collide_sphere_pairs_dense(const SphereArrays& spheres,
+                                       std::span<const SpherePair> pairs, Real margin,
+                                       const SphereContactArrays& out) {
+  const std::size_t n = pairs.size();
+  const int degenerate =
+      contacts_of_pairs(spheres.x, spheres.y, spheres.z, spheres.radius, pairs.data(), n, out.depth,
+                        out.normal_x, out.normal_y, out.normal_z, out.x, out.y, out.z);
+  if (degenerate > 0)
+    fix_degenerate(spheres, pairs.data(), n, out.normal_z, out.z);
+  std::size_t touching = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    touching += out.depth[j] >= -margin ? 1 : 0;  // NaN fails, as in collide()
+  return touching;
+}
 
 std::size_t collide_sphere_pairs(const SphereArrays& spheres, std::span<const SpherePair> pairs,
                                  Real margin, std::span<SphereContact> out) {
@@ -91,17 +113,20 @@ std::size_t collide_sphere_pairs(const SphereArrays& spheres, std::span<const Sp
   std::size_t written = 0;
   for (std::size_t start = 0; start < pairs.size(); start += kBlock) {
     const std::size_t count = std::min(kBlock, pairs.size() - start);
-    contacts_of_block(spheres.x, spheres.y, spheres.z, spheres.radius, pairs.data() + start, count,
-                      margin, block);
+    const SpherePair* block_pairs = pairs.data() + start;
+    if (contacts_of_pairs(spheres.x, spheres.y, spheres.z, spheres.radius, block_pairs, count,
+                          block.depth.data(), block.nx.data(), block.ny.data(), block.nz.data(),
+                          block.px.data(), block.py.data(), block.pz.data()) > 0)
+      fix_degenerate(spheres, block_pairs, count, block.nz.data(), block.pz.data());
     // Write every pair to the next free slot and advance only past those within the margin: no
-    // branch to mispredict (out has room for all pairs).
+    // branch to mispredict (out has room for all pairs). NaN fails, as in collide().
     for (std::size_t j = 0; j < count; ++j) {
       SphereContact& c = out[written];
       c.pair = static_cast<std::int32_t>(start + j);
       c.depth = block.depth[j];
       c.normal = Vec3(block.nx[j], block.ny[j], block.nz[j]);
       c.position = Vec3(block.px[j], block.py[j], block.pz[j]);
-      written += block.keep[j] != 0 ? 1 : 0;
+      written += block.depth[j] >= -margin ? 1 : 0;
     }
   }
   return written;

@@ -39,6 +39,25 @@ struct SphereContact {
   Vec3 position = Vec3::Zero();
 };
 
+// Results for every pair, as structure-of-arrays (each pointer addresses pairs.size() values):
+// depth (>= -margin: the pair touches), normal from B to A, and the contact position. Pairs
+// apart have their depth and normal too (NaN input gives NaN).
+struct SphereContactArrays {
+  Real* depth = nullptr;
+  Real* normal_x = nullptr;
+  Real* normal_y = nullptr;
+  Real* normal_z = nullptr;
+  Real* x = nullptr;
+  Real* y = nullptr;
+  Real* z = nullptr;
+};
+
+// The fastest form: fills `out` for every pair (no compaction) and returns how many pairs have
+// depth >= -margin. The values of touching pairs are collide()'s, bit for bit.
+std::size_t collide_sphere_pairs_dense(const SphereArrays& spheres,
+                                       std::span<const SpherePair> pairs, Real margin,
+                                       const SphereContactArrays& out);
+
 // Writes one SphereContact per pair whose signed depth is at least -margin into `out`, in pair
 // order, and returns how many it wrote. `out` needs room for pairs.size() entries (every slot
 // may be written as scratch); the call never allocates.

@@ -258,6 +258,35 @@ void BM_SphereSphereArray_TumbleBatch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kSpherePairs);
 }
 
+// The dense form on the same pairs: results for every pair as structure-of-arrays, no
+// compaction (the caller reads depth >= -margin).
+void BM_SphereSphereArray_TumbleDense(benchmark::State& state) {
+  Rng rng(5);
+  std::uniform_real_distribution<Real> u(0.5, 1.2);
+  std::vector<Real> x, y, z, radius;
+  std::vector<SpherePair> pairs;
+  for (int i = 0; i < kSpherePairs; ++i) {
+    const Vec3 b = Vec3(i, 0, 0) + unit_vector(rng) * u(rng);
+    x.insert(x.end(), {Real(i), b.x()});
+    y.insert(y.end(), {Real(0), b.y()});
+    z.insert(z.end(), {Real(0), b.z()});
+    radius.insert(radius.end(), {Real(0.5), Real(0.5)});
+    pairs.push_back({2 * i, 2 * i + 1});
+  }
+  const SphereArrays spheres{x.data(), y.data(), z.data(), radius.data()};
+  std::vector<Real> out(7 * pairs.size());
+  const std::size_t n = pairs.size();
+  const SphereContactArrays results{out.data(),         out.data() + n,     out.data() + 2 * n,
+                                    out.data() + 3 * n, out.data() + 4 * n, out.data() + 5 * n,
+                                    out.data() + 6 * n};
+  for (auto _ : state) {
+    const std::size_t touching = collide_sphere_pairs_dense(spheres, pairs, 0, results);
+    benchmark::DoNotOptimize(touching);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kSpherePairs);
+}
+
 void BM_SphereSphereArray_Bullet(benchmark::State& state) {
   Rng rng(5);
   std::uniform_real_distribution<Real> u(0.5, 1.2);
@@ -438,6 +467,7 @@ BENCHMARK(BM_GjkEpaPenetratingHulls43_Tumble);
 BENCHMARK(BM_GjkEpaPenetratingHulls43_Bullet);
 BENCHMARK(BM_SphereSphereArray_Tumble);
 BENCHMARK(BM_SphereSphereArray_TumbleBatch);
+BENCHMARK(BM_SphereSphereArray_TumbleDense);
 BENCHMARK(BM_SphereSphereArray_Bullet);
 BENCHMARK(BM_HullHull43Penetrating_TumbleSat);
 BENCHMARK(BM_HullHull43Penetrating_TumbleGjkEpa);

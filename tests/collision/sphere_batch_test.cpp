@@ -124,6 +124,21 @@ void expect_matches_collide(const SphereSoup& soup, Real margin) {
   }
   EXPECT_EQ(next, written);
   EXPECT_EQ(mismatches, 0) << "contacts that differ from collide() in some bit";
+
+  // The dense form: the same pairs touch, with the same bits; the others are apart.
+  const std::size_t n = soup.pairs.size();
+  std::vector<Real> depth(n), nx(n), ny(n), nz(n), px(n), py(n), pz(n);
+  const std::size_t touching_dense = collide_sphere_pairs_dense(
+      soup.arrays(), soup.pairs, margin,
+      {depth.data(), nx.data(), ny.data(), nz.data(), px.data(), py.data(), pz.data()});
+  EXPECT_EQ(touching_dense, written);
+  for (std::size_t k = 0; k < written; ++k) {
+    const SphereContact& c = contacts[k];
+    const std::size_t i = std::size_t(c.pair);
+    EXPECT_TRUE(same_bits(depth[i], c.depth) && same_bits(Vec3(nx[i], ny[i], nz[i]), c.normal) &&
+                same_bits(Vec3(px[i], py[i], pz[i]), c.position))
+        << "dense result of pair " << i << " differs";
+  }
   // The soup is built so that both outcomes are common.
   EXPECT_GT(touching, int(soup.pairs.size()) / 4);
   EXPECT_LT(touching, int(soup.pairs.size()) * 9 / 10);
