@@ -82,61 +82,65 @@ struct Axis {
 
 // ---- Clipping, in the reference box's frame ---------------------------------------------------
 
-struct ClipVertex {
-  Vec3 position;
-  std::uint16_t incident_feature;
-  std::uint16_t reference_feature;
-  // The polygon edge that leaves this vertex runs along an incident box edge
-  // (`outgoing_edge`) or, after a clip, along a reference side plane (`outgoing_side` >= 0).
-  std::uint16_t outgoing_edge;
-  std::int16_t outgoing_side;
-};
-
 // Sutherland-Hodgman on a quadrilateral against four planes adds at most one vertex per plane;
 // the slack covers rounding at grazing angles. A pass writes each vertex and each crossing
 // unconditionally and counts only those that stay (no branch on the geometry), so its buffer
-// holds two entries per input vertex.
+// holds two entries per input vertex. The polygon is stored as separate arrays (coordinates,
+// features): a pass then reads each value with the width it was written with, which keeps the
+// processor's store-to-load forwarding working from one pass to the next.
 constexpr int kMaxClipVertices = 16;
 
+// Coordinates in the reference face's frame: u and v along the reference box's axes
+// (axis + 1) % 3 and (axis + 2) % 3, h along the face's axis. Side s of the face bounds u
+// (s = 0: u <= half_u, s = 1: -u <= half_u) or v (s = 2, 3).
 struct ClipPolygon {
-  std::array<ClipVertex, 2 * kMaxClipVertices> vertices;
+  static constexpr int kCapacity = 2 * kMaxClipVertices;
+  std::array<std::array<Real, kCapacity>, 3> coordinate;  // [u, v, h][vertex]
+  std::array<std::uint16_t, kCapacity> incident_feature;
+  std::array<std::uint16_t, kCapacity> reference_feature;
+  // The polygon edge that leaves a vertex runs along an incident box edge (`outgoing_edge`) or,
+  // after a clip, along a reference side plane (`outgoing_side` >= 0).
+  std::array<std::uint16_t, kCapacity> outgoing_edge;
+  std::array<std::int16_t, kCapacity> outgoing_side;
   int count = 0;
 };
 
-// The reference face: face `axis` of the reference box on the `positive` side. Its four side
-// planes, in the order the clipper visits them: tangent (axis + 1) % 3 positive and negative,
-// then tangent (axis + 2) % 3 positive and negative. In the box's frame side s bounds the
-// coordinate side_tangent(s) by +-half.
+// The reference face: face `axis` of the reference box on the `positive` side, with the
+// feature ids of its sides and corners worked out once.
 struct ReferenceFace {
   int axis;
   bool positive;
-  Vec3 half;
+  Real half_u;
+  Real half_v;
+  Real half_h;
+  std::uint16_t face_feature;
+  std::array<std::uint16_t, 4> side_edge;  // the edge of the face in side plane s
+  std::array<int, 4> side_bit;             // the vertex sign bit that side s sets
 
-  int side_tangent(int s) const { return (axis + 1 + s / 2) % 3; }
-  static bool side_positive(int s) { return s % 2 == 0; }
-  std::uint16_t face_feature() const { return feature::box_face(axis, positive); }
-  int face_bit() const { return positive ? 1 << axis : 0; }
-  // The edge of the reference face that lies in side plane `s`.
-  std::uint16_t side_edge(int s) const {
-    const int tangent = side_tangent(s);
-    return feature::box_edge(3 - axis - tangent,
-                             face_bit() | (side_positive(s) ? 1 << tangent : 0));
+  ReferenceFace(int face_axis, bool face_positive, const Vec3& half)
+      : axis(face_axis), positive(face_positive) {
+    const int u = (axis + 1) % 3;
+    const int v = (axis + 2) % 3;
+    half_u = half[u];
+    half_v = half[v];
+    half_h = half[axis];
+    face_feature = feature::box_face(axis, positive);
+    const int face_bit = positive ? 1 << axis : 0;
+    for (int s = 0; s < 4; ++s) {
+      const int tangent = s < 2 ? u : v;
+      side_bit[s] = s % 2 == 0 ? 1 << tangent : 0;
+      side_edge[s] = feature::box_edge(3 - axis - tangent, face_bit | side_bit[s]);
+    }
   }
-  // The corner of the reference face where side planes `s` and `t` meet.
+  // The corner of the face where side planes `s` and `t` meet (the face itself when they are
+  // parallel).
   std::uint16_t corner(int s, int t) const {
-    const int u = side_tangent(s);
-    const int v = side_tangent(t);
-    const std::uint16_t vertex = feature::box_vertex(face_bit() | (side_positive(s) ? 1 << u : 0) |
-                                                     (side_positive(t) ? 1 << v : 0));
-    return u == v ? face_feature() : vertex;  // parallel sides: no corner
+    const int face_bit = positive ? 1 << axis : 0;
+    const std::uint16_t vertex = feature::box_vertex(face_bit | side_bit[s] | side_bit[t]);
+    return s / 2 == t / 2 ? face_feature : vertex;
   }
-  // Signed distance of a point (reference frame) outside side plane `s`.
-  Real outside_side(const Vec3& p, int s) const {
-    const int tangent = side_tangent(s);
-    return (side_positive(s) ? p[tangent] : -p[tangent]) - half[tangent];
-  }
-  // Height of a point (reference frame) above the face.
-  Real height(const Vec3& p) const { return (positive ? p[axis] : -p[axis]) - half[axis]; }
+  // Height of a point above the face.
+  Real height(Real h) const { return (positive ? h : -h) - half_h; }
 };
 
 // The incident box in the reference box's frame.
@@ -146,8 +150,8 @@ struct IncidentBox {
   Vec3 half;
 };
 
-// The incident face (the face most anti-parallel to the reference normal) as a polygon, in the
-// reference frame.
+// The incident face (the face most anti-parallel to the reference normal) as a polygon in the
+// reference face's coordinates.
 void incident_face(const IncidentBox& box, const ReferenceFace& reference,
                    std::uint16_t& face_feature, ClipPolygon& polygon) {
   // The normal's component along incident axis k is axes(reference.axis, k) (up to its sign).
@@ -171,56 +175,91 @@ void incident_face(const IncidentBox& box, const ReferenceFace& reference,
   const Vec3 along_b = box.axes.col(b) * box.half[b];
   // Corners in cyclic order (+a,+b), (-a,+b), (-a,-b), (+a,-b); edges alternate along a, b.
   const int face_bits = positive ? 1 << axis : 0;
-  const std::uint16_t reference_face = reference.face_feature();
   const std::array<Vec3, 4> corners = {
       face_centre + along_a + along_b, face_centre - along_a + along_b,
       face_centre - along_a - along_b, face_centre + along_a - along_b};
   constexpr std::array<int, 4> a_positive = {1, 0, 0, 1};
   constexpr std::array<int, 4> b_positive = {1, 1, 0, 0};
+  const int u = (reference.axis + 1) % 3;
+  const int v = (reference.axis + 2) % 3;
   polygon.count = 4;
   for (int i = 0; i < 4; ++i) {
     const int bits = face_bits | (a_positive[i] << a) | (b_positive[i] << b);
     const int edge_direction = i % 2 == 0 ? a : b;
-    polygon.vertices[i] = {corners[i], feature::box_vertex(bits), reference_face,
-                           feature::box_edge(edge_direction, bits), -1};
+    polygon.coordinate[0][i] = corners[i][u];
+    polygon.coordinate[1][i] = corners[i][v];
+    polygon.coordinate[2][i] = corners[i][reference.axis];
+    polygon.incident_feature[i] = feature::box_vertex(bits);
+    polygon.reference_feature[i] = reference.face_feature;
+    polygon.outgoing_edge[i] = feature::box_edge(edge_direction, bits);
+    polygon.outgoing_side[i] = -1;
   }
 }
 
-void clip_against_side(const ClipPolygon& in, const ReferenceFace& reference, int side,
+// GCC 12 cannot follow `count` through the passes below and warns that the buffers may be
+// read uninitialised (-Wmaybe-uninitialized, a false positive: every entry below `count` was
+// written by incident_face or by the previous pass).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
+// One Sutherland-Hodgman pass against side plane `side` (a template, so that the coordinate and
+// the sign are constants). Returns false, leaving `out` untouched, when every vertex is inside.
+template <int side>
+bool clip_against_side(const ClipPolygon& in, const ReferenceFace& reference,
                        std::uint16_t incident_face_feature, ClipPolygon& out) {
-  const std::uint16_t side_edge = reference.side_edge(side);
+  constexpr int across_index = side / 2;
+  constexpr Real sign = side % 2 == 0 ? Real(1) : Real(-1);
+  const Real bound = side < 2 ? reference.half_u : reference.half_v;
+  const auto& across = in.coordinate[across_index];
   const int count_in = std::min(in.count, kMaxClipVertices);
+  Real farthest_out = -std::numeric_limits<Real>::infinity();
+  for (int i = 0; i < count_in; ++i)
+    farthest_out = std::max(farthest_out, sign * across[i]);
+  if (farthest_out - bound <= 0)
+    return false;
+
+  const std::uint16_t side_edge = reference.side_edge[side];
   int count = 0;
-  const Real first_distance = reference.outside_side(in.vertices[0].position, side);
+  const Real first_distance = sign * across[0] - bound;
   Real distance_p = first_distance;
-  for (int i = 0; i < count_in; ++i) {
+  for (int p = 0; p < count_in; ++p) {
     // Edge from p to q, the next vertex.
-    const ClipVertex& p = in.vertices[i];
-    const bool q_is_first = i + 1 == count_in;
-    const ClipVertex& q = in.vertices[q_is_first ? 0 : i + 1];
-    const Real distance_q = q_is_first ? first_distance : reference.outside_side(q.position, side);
+    const bool q_is_first = p + 1 == count_in;
+    const int q = q_is_first ? 0 : p + 1;
+    const Real distance_q = q_is_first ? first_distance : sign * across[q] - bound;
     const bool p_inside = distance_p <= 0;
     const bool crosses = p_inside != (distance_q <= 0);
-    out.vertices[count] = p;
+    for (int k = 0; k < 3; ++k)
+      out.coordinate[k][count] = in.coordinate[k][p];
+    out.incident_feature[count] = in.incident_feature[p];
+    out.reference_feature[count] = in.reference_feature[p];
+    out.outgoing_edge[count] = in.outgoing_edge[p];
+    out.outgoing_side[count] = in.outgoing_side[p];
     count += p_inside;
 
-    ClipVertex& crossing = out.vertices[count];
-    const Real denominator = crosses ? distance_p - distance_q : Real(1);
-    crossing.position = p.position + (q.position - p.position) * (distance_p / denominator);
+    const Real fraction = distance_p / (crosses ? distance_p - distance_q : Real(1));
+    for (int k = 0; k < 3; ++k) {
+      out.coordinate[k][count] =
+          in.coordinate[k][p] + (in.coordinate[k][q] - in.coordinate[k][p]) * fraction;
+    }
     // An incident edge crossing a side of the reference face, or a stretch along an earlier
     // side plane crossing this one: a reference corner.
-    const bool along_incident_edge = p.outgoing_side < 0;
-    crossing.incident_feature = along_incident_edge ? p.outgoing_edge : incident_face_feature;
-    crossing.reference_feature =
-        along_incident_edge ? side_edge : reference.corner(p.outgoing_side, side);
-    crossing.outgoing_edge = p.outgoing_edge;
+    const std::int16_t p_side = in.outgoing_side[p];
+    const bool along_incident_edge = p_side < 0;
+    out.incident_feature[count] = along_incident_edge ? in.outgoing_edge[p] : incident_face_feature;
+    out.reference_feature[count] =
+        along_incident_edge ? side_edge : reference.corner(p_side < 0 ? 0 : p_side, side);
+    out.outgoing_edge[count] = in.outgoing_edge[p];
     // Leaving the prism, the polygon now runs along this side plane to where it comes back in;
     // entering it, it continues along p's edge.
-    crossing.outgoing_side = p_inside ? std::int16_t(side) : p.outgoing_side;
+    out.outgoing_side[count] = p_inside ? std::int16_t(side) : p_side;
     count += crosses;
     distance_p = distance_q;
   }
   out.count = count;
+  return true;
 }
 
 // Face contact: the reference face is A's (reference_is_a) or B's, its axis `reference_axis`.
@@ -235,43 +274,49 @@ int face_contacts(const PairInA& pair, bool reference_is_a, int reference_axis, 
     // A in B's frame: its axes are the rows of r, its centre -r^T t.
     incident = {-(pair.r.transpose() * pair.t), pair.r.transpose(), pair.half_a};
   }
-  const ReferenceFace reference{reference_axis, incident.centre[reference_axis] >= 0,
-                                reference_is_a ? pair.half_a : pair.half_b};
+  const ReferenceFace reference(reference_axis, incident.centre[reference_axis] >= 0,
+                                reference_is_a ? pair.half_a : pair.half_b);
   std::uint16_t incident_face_feature = 0;
-  // Clip back and forth between two buffers.
+  // Clip back and forth between two buffers. Only their first `count` entries are ever read,
+  // and every pass writes those first; zeroing 2 KiB per query to tell the compiler so would
+  // cost more than the clipping.
   ClipPolygon buffers[2];
   ClipPolygon* polygon = &buffers[0];
   ClipPolygon* scratch = &buffers[1];
   incident_face(incident, reference, incident_face_feature, *polygon);
-  for (int side = 0; side < 4 && polygon->count > 0; ++side) {
-    clip_against_side(*polygon, reference, side, incident_face_feature, *scratch);
-    std::swap(polygon, scratch);
-  }
+  const auto clip = [&](auto pass) {
+    if (polygon->count > 0 && pass(*polygon, reference, incident_face_feature, *scratch))
+      std::swap(polygon, scratch);
+  };
+  clip(clip_against_side<0>);
+  clip(clip_against_side<1>);
+  clip(clip_against_side<2>);
+  clip(clip_against_side<3>);
 
   // The manifold normal (from B to A) is -+ the reference face's outward normal; in the
-  // reference frame it is +-e_axis. The contact plane's coordinates (u, v) are the other two
-  // axes, ordered so that u x v is the manifold normal, as reduce_manifold measures areas.
+  // reference frame it is +-e_axis. The contact plane's coordinates are (u, v), or (v, u), so
+  // that their cross product is the manifold normal, as reduce_manifold measures areas.
   const Real face_sign = reference.positive ? Real(1) : Real(-1);
   const Real normal_sign = reference_is_a ? -face_sign : face_sign;
-  const int u_axis = normal_sign > 0 ? (reference_axis + 1) % 3 : (reference_axis + 2) % 3;
-  const int v_axis = 3 - reference_axis - u_axis;
+  const int first_planar = normal_sign > 0 ? 0 : 1;
 
   std::array<PlanarCandidate, kMaxClipVertices> candidates;
-  std::array<const ClipVertex*, kMaxClipVertices> sources;
+  std::array<int, kMaxClipVertices> sources;  // vertex of *source
+  const ClipPolygon* source = polygon;
   int candidate_count = 0;
   closest_height = std::numeric_limits<Real>::infinity();
-  const auto add_candidate = [&](const ClipVertex& v, Real separation) {
-    candidates[candidate_count] = {v.position[u_axis], v.position[v_axis], -separation};
-    sources[candidate_count++] = &v;
+  const auto add_candidate = [&](int vertex, Real separation) {
+    candidates[candidate_count] = {source->coordinate[first_planar][vertex],
+                                   source->coordinate[1 - first_planar][vertex], -separation};
+    sources[candidate_count++] = vertex;
   };
   const int clipped_count = std::min(polygon->count, kMaxClipVertices);
   for (int i = 0; i < clipped_count; ++i) {
-    const ClipVertex& v = polygon->vertices[i];
     // Height of the incident point above the reference face; depth is its negative.
-    const Real separation = reference.height(v.position);
+    const Real separation = reference.height(polygon->coordinate[2][i]);
     closest_height = std::min(closest_height, separation);
     if (-separation >= -margin)
-      add_candidate(v, separation);
+      add_candidate(i, separation);
   }
   if (candidate_count == 0) {
     // Rounding clipped everything away, or the clipped face lies above the margin while a
@@ -282,34 +327,45 @@ int face_contacts(const PairInA& pair, bool reference_is_a, int reference_axis, 
     incident_face(incident, reference, incident_face_feature, corners);
     int deepest = 0;
     for (int i = 1; i < 4; ++i) {
-      if (reference.height(corners.vertices[i].position) <
-          reference.height(corners.vertices[deepest].position)) {
+      if (reference.height(corners.coordinate[2][i]) <
+          reference.height(corners.coordinate[2][deepest])) {
         deepest = i;
       }
     }
-    const Real separation = reference.height(corners.vertices[deepest].position);
+    const Real separation = reference.height(corners.coordinate[2][deepest]);
+    source = &corners;
     if (-separation >= -margin)
-      add_candidate(corners.vertices[deepest], separation);
+      add_candidate(deepest, separation);
   }
 
   const Vec3& reference_centre = reference_is_a ? pair.centre_a : pair.centre_b;
   const Mat3 reference_axes = reference_is_a ? pair.axes_a : pair.axes_b();
   out.normal = reference_axes.col(reference_axis) * normal_sign;
+  const int u = (reference_axis + 1) % 3;
+  const int v = (reference_axis + 2) % 3;
   std::array<int, kMaxManifoldPoints> kept{};
   const int kept_count =
       reduce_planar_manifold(std::span(candidates.data(), std::size_t(candidate_count)), kept);
   for (int i = 0; i < kept_count; ++i) {
-    const ClipVertex& v = *sources[kept[i]];
+    const int vertex = sources[kept[i]];
     const Real depth = candidates[kept[i]].depth;
     // Midway between the incident point and its projection onto the reference face.
-    Vec3 midway = v.position;
-    midway[reference_axis] += face_sign * depth * Real(0.5);
-    const FeatureId id = reference_is_a ? FeatureId{v.reference_feature, v.incident_feature}
-                                        : FeatureId{v.incident_feature, v.reference_feature};
+    Vec3 midway;
+    midway[u] = source->coordinate[0][vertex];
+    midway[v] = source->coordinate[1][vertex];
+    midway[reference_axis] = source->coordinate[2][vertex] + face_sign * depth * Real(0.5);
+    const FeatureId id =
+        reference_is_a
+            ? FeatureId{source->reference_feature[vertex], source->incident_feature[vertex]}
+            : FeatureId{source->incident_feature[vertex], source->reference_feature[vertex]};
     out.add(reference_centre + reference_axes * midway, depth, id);
   }
   return out.count;
 }
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 Vec3 corner_in_own_frame(const Vec3& half, int sign_bits) {
   return Vec3((sign_bits & 1) ? half[0] : -half[0], (sign_bits & 2) ? half[1] : -half[1],
@@ -478,39 +534,38 @@ Axis edge_axis(const PairInA& pair, int i, int j, Real along, Real squared_lengt
 }
 
 // The most separated edge axis, the first on ties (separation -infinity when every pair of
-// edges is parallel). The separations excess / sqrt(squared_length) are compared through their
-// squares and signs, without a branch on the data, and only the winner's is computed.
+// edges is parallel). The lanes are ranked by the signed square of their separation,
+// excess |excess| / squared_length (nine independent divisions, no square root), in a
+// tournament whose left side wins ties, so the first lane wins and the chain of comparisons is
+// four deep instead of nine; only the winner's separation is computed.
 Axis best_edge_axis(const PairInA& pair, const std::array<EdgeAxisTerms, 9>& terms) {
-  int best = -1;
-  bool best_valid = false;
-  bool best_positive = false;
-  Real best_excess_squared = 0;
-  Real best_squared_length = 1;
+  std::array<Real, 9> key;
   for (int lane = 0; lane < 9; ++lane) {
     const EdgeAxisTerms& t = terms[lane];
     const bool valid = t.squared_length > kMinCrossSine * kMinCrossSine;
-    const bool positive = t.excess > 0;
-    const Real excess_squared = t.excess * t.excess;
-    // |separation|^2 of this lane against the best so far, cross-multiplied.
-    const Real mine = excess_squared * best_squared_length;
-    const Real theirs = best_excess_squared * t.squared_length;
-    const bool greater =
-        positive ? !best_positive || mine > theirs : !best_positive && mine < theirs;
-    const bool take = valid & (!best_valid | greater);
-    best = take ? lane : best;
-    best_valid |= take;
-    best_positive = take ? positive : best_positive;
-    best_excess_squared = take ? excess_squared : best_excess_squared;
-    best_squared_length = take ? t.squared_length : best_squared_length;
+    const Real denominator = valid ? t.squared_length : Real(1);
+    key[lane] = valid ? t.excess * std::abs(t.excess) / denominator
+                      : -std::numeric_limits<Real>::infinity();
   }
-  if (best < 0) {
+  struct Entry {
+    Real key;
+    int lane;
+  };
+  const auto better = [](const Entry& left, const Entry& right) {
+    return right.key > left.key ? right : left;
+  };
+  const Entry level1[4] = {better({key[0], 0}, {key[1], 1}), better({key[2], 2}, {key[3], 3}),
+                           better({key[4], 4}, {key[5], 5}), better({key[6], 6}, {key[7], 7})};
+  const Entry level2 = better(better(level1[0], level1[1]), better(level1[2], level1[3]));
+  const Entry best = better(level2, {key[8], 8});
+  if (!(best.key > -std::numeric_limits<Real>::infinity())) {
     Axis none;
     none.kind = AxisKind::edges;
     return none;
   }
-  const Real separation = terms[best].excess / std::sqrt(terms[best].squared_length);
-  return edge_axis(pair, best / 3, best % 3, terms[best].along, terms[best].squared_length,
-                   separation);
+  const EdgeAxisTerms& t = terms[best.lane];
+  return edge_axis(pair, best.lane / 3, best.lane % 3, t.along, t.squared_length,
+                   t.excess / std::sqrt(t.squared_length));
 }
 
 }  // namespace
