@@ -1,41 +1,41 @@
 // Box against box.
 //
-// Axis: the separating-axis test over the 15 candidate axes of two oriented boxes, the 3 + 3
-// face normals and the 9 cross products of edge directions, in the form of Gottschalk, Lin and
-// Manocha, "OBBTree: A Hierarchical Structure for Rapid Interference Detection", SIGGRAPH 1996
-// (and Ericson, Real-Time Collision Detection, 2005, 4.4.1): everything is expressed in A's
-// frame, where B's axes are the columns of R = Ra^T Rb and B's centre is t, so each axis costs
-// a few products of entries of R, |R| and t instead of two matrix-vector products. The first
-// axis that separates the boxes by more than the margin ends the test. For the edge axis
-// a_i x b_j the length |a_i x b_j| = sqrt(R(i+1, j)^2 + R(i+2, j)^2) has no cancellation, so the
-// separation is exact up to rounding; axes shorter than kMinCrossSine (near-parallel edges) are
-// skipped instead of padding |R| with an epsilon as the paper does, because the face axes cover
-// them and the padding would bias every reported depth. Face axes win over edge axes, and A's
-// faces over B's, unless the other is clearly more separated (clearly_more_separated in
-// pairs.hpp; Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013, biases
-// the same way), so the manifold does not flip between features from rounding.
+// Axis: the separating-axis test over the 15 candidate axes of two oriented boxes, the 3 + 3 face
+// normals and the 9 cross products of edge directions, in the form of Gottschalk, Lin and Manocha,
+// "OBBTree: A Hierarchical Structure for Rapid Interference Detection", SIGGRAPH 1996 (and Ericson,
+// Real-Time Collision Detection, 2005, 4.4.1): everything is expressed in A's frame, where B's axes
+// are the columns of R = Ra^T Rb and B's centre is t, so each axis costs a few products of entries
+// of R, |R| and t instead of two matrix-vector products. All fifteen are computed without a branch
+// on the data and then tested once against the margin (a branch per axis would be mispredicted
+// about half the time, which costs more than the arithmetic it saves). For the edge axis a_i x b_j
+// the length |a_i x b_j| = sqrt(R(i+1, j)^2 + R(i+2, j)^2) has no cancellation, so the separation
+// is exact up to rounding; axes shorter than kMinCrossSine (near-parallel edges) are skipped
+// instead of padding |R| with an epsilon as the paper does, because the face axes cover them and
+// the padding would bias every reported depth. Face axes win over edge axes, and A's faces over
+// B's, unless the other is clearly more separated (clearly_more_separated in pairs.hpp; Gregorius,
+// "The Separating Axis Test between Convex Polyhedra", GDC 2013, biases the same way), so the
+// manifold does not flip between features from rounding.
 //
-// Points, face axis: the face of the other box most anti-parallel to the reference face's
-// normal is the incident face; it is clipped against the four side planes of the reference face
-// (Sutherland-Hodgman; Ericson 8.3.4; Catto, "Contact Manifolds", GDC 2007). The clipping runs
-// in the reference box's own frame, where the side planes are coordinate bounds, and only the
-// kept points go back to the pair frame. Every clipped point below the reference face, or above
-// it by less than the margin, is kept with its depth measured along the normal; more than four
-// are reduced by manifold_reduction. Each clipped point carries the features that made it: an
-// incident vertex inside the reference face, an incident edge crossing a reference side edge,
-// or a reference corner inside the incident face.
+// Points, face axis: the face of the other box most anti-parallel to the reference face's normal is
+// the incident face; it is clipped against the four side planes of the reference face
+// (Sutherland-Hodgman; Ericson 8.3.4; Catto, "Contact Manifolds", GDC 2007). The clipping runs in
+// the reference box's own frame, where the side planes are coordinate bounds, and only the kept
+// points go back to the pair frame. Every clipped point below the reference face, or above it by
+// less than the margin, is kept with its depth measured along the normal; more than four are
+// reduced by manifold_reduction. Each clipped point carries the features that made it: an incident
+// vertex inside the reference face, an incident edge crossing a reference side edge, or a reference
+// corner inside the incident face.
 //
 // Points, edge axis: one point at the closest points of the two edges that are extreme along the
 // axis (Ericson 5.1.9), computed in A's frame.
 //
 // Apart but within the margin, the separation along the best axis can be smaller than the true
-// distance (two boxes corner to corner). The axis is kept at once when its own points show that
-// it realises the distance (a clipped incident point, or the closest points of the two edges,
-// as far apart as the separation: the distance is at least the separation and at most that).
-// Otherwise the exact closest features are found by brute force over the 8 + 8 corners against
-// the other box and the 12 x 12 edge pairs; an axis is kept when it realises that distance
-// (face-face, face-edge and edge-edge contacts), otherwise the single closest pair is the point
-// and its direction the normal.
+// distance (two boxes corner to corner). The axis is kept at once when its own points show that it
+// realises the distance (a clipped incident point, or the closest points of the two edges, as far
+// apart as the separation: the distance is at least the separation and at most that). Otherwise the
+// exact closest features are found by brute force over the 8 + 8 corners against the other box and
+// the 12 x 12 edge pairs; an axis is kept when it realises that distance (face-face, face-edge and
+// edge-edge contacts), otherwise the single closest pair is the point and its direction the normal.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -47,15 +47,15 @@
 namespace tumble::detail {
 namespace {
 
-// Cross products of edge directions shorter than this (sine of the angle between the edges)
-// are not tested: their direction would be mostly rounding.
+// Cross products of edge directions shorter than this (sine of the angle between the edges) are not
+// tested: their direction would be mostly rounding.
 constexpr Real kMinCrossSine = Real(1e-6);
-// A separating axis "realises" the distance of boxes that are apart when its separation is
-// within this fraction of the pair's size of the exact distance.
+// A separating axis "realises" the distance of boxes that are apart when its separation is within
+// this fraction of the pair's size of the exact distance.
 constexpr Real kRealisesDistanceTolerance = Real(1e-9);
 
-// The pair seen from A's frame (Gottschalk et al. 1996, section 5): B's axes are the columns of
-// r, B's centre is t.
+// The pair seen from A's frame (Gottschalk et al. 1996, section 5): B's axes are the columns of r,
+// B's centre is t.
 struct PairInA {
   Vec3 centre_a;
   Vec3 centre_b;
@@ -80,33 +80,40 @@ struct Axis {
   Real separation = -std::numeric_limits<Real>::infinity();
 };
 
-// ---- Clipping, in the reference box's frame ---------------------------------------------------
+// ---- Clipping, in the reference box's frame
+// ---------------------------------------------------
 
-// Sutherland-Hodgman on a quadrilateral against four planes adds at most one vertex per plane;
-// the slack covers rounding at grazing angles. A pass writes each vertex and each crossing
-// unconditionally and counts only those that stay (no branch on the geometry), so its buffer
-// holds two entries per input vertex. The polygon is stored as separate arrays (coordinates,
-// features): a pass then reads each value with the width it was written with, which keeps the
-// processor's store-to-load forwarding working from one pass to the next.
+// Sutherland-Hodgman on a quadrilateral against four planes adds at most one vertex per plane; the
+// slack covers rounding at grazing angles. The vertices live in one pool that only grows (the
+// incident corners, then every crossing a pass makes), and a pass turns one loop of pool indices
+// into the next: a vertex that stays costs one index, not a copy. A pass writes each index and each
+// crossing unconditionally and counts only those that stay (no branch on the geometry), so a loop
+// holds two entries per input vertex and the pool one spare slot.
 constexpr int kMaxClipVertices = 16;
 
-// Coordinates in the reference face's frame: u and v along the reference box's axes
-// (axis + 1) % 3 and (axis + 2) % 3, h along the face's axis. Side s of the face bounds u
-// (s = 0: u <= half_u, s = 1: -u <= half_u) or v (s = 2, 3).
-struct ClipPolygon {
-  static constexpr int kCapacity = 2 * kMaxClipVertices;
+// Coordinates in the reference face's frame: u and v along the reference box's axes (axis + 1) % 3
+// and (axis + 2) % 3, h along the face's axis. Side s of the face bounds u (s = 0: u <= half_u, s =
+// 1: -u <= half_u) or v (s = 2, 3). Fields are separate arrays, so that every value is read with
+// the width it was written with (store-to-load forwarding).
+struct ClipVertices {
+  static constexpr int kCapacity = 4 + 4 * kMaxClipVertices + 1;
   std::array<std::array<Real, kCapacity>, 3> coordinate;  // [u, v, h][vertex]
   std::array<std::uint16_t, kCapacity> incident_feature;
   std::array<std::uint16_t, kCapacity> reference_feature;
   // The polygon edge that leaves a vertex runs along an incident box edge (`outgoing_edge`) or,
   // after a clip, along a reference side plane (`outgoing_side` >= 0).
   std::array<std::uint16_t, kCapacity> outgoing_edge;
-  std::array<std::int16_t, kCapacity> outgoing_side;
+  std::array<std::int8_t, kCapacity> outgoing_side;
   int count = 0;
 };
 
-// The reference face: face `axis` of the reference box on the `positive` side, with the
-// feature ids of its sides and corners worked out once.
+struct ClipLoop {
+  std::array<std::uint8_t, 2 * kMaxClipVertices> vertex;  // indices into ClipVertices
+  int count = 0;
+};
+
+// The reference face: face `axis` of the reference box on the `positive` side, with the feature ids
+// of its sides and corners worked out once.
 struct ReferenceFace {
   int axis;
   bool positive;
@@ -153,7 +160,7 @@ struct IncidentBox {
 // The incident face (the face most anti-parallel to the reference normal) as a polygon in the
 // reference face's coordinates.
 void incident_face(const IncidentBox& box, const ReferenceFace& reference,
-                   std::uint16_t& face_feature, ClipPolygon& polygon) {
+                   std::uint16_t& face_feature, ClipVertices& vertices, ClipLoop& polygon) {
   // The normal's component along incident axis k is axes(reference.axis, k) (up to its sign).
   int axis = 0;
   Real best = -1;
@@ -182,80 +189,81 @@ void incident_face(const IncidentBox& box, const ReferenceFace& reference,
   constexpr std::array<int, 4> b_positive = {1, 1, 0, 0};
   const int u = (reference.axis + 1) % 3;
   const int v = (reference.axis + 2) % 3;
+  vertices.count = 4;
   polygon.count = 4;
   for (int i = 0; i < 4; ++i) {
     const int bits = face_bits | (a_positive[i] << a) | (b_positive[i] << b);
     const int edge_direction = i % 2 == 0 ? a : b;
-    polygon.coordinate[0][i] = corners[i][u];
-    polygon.coordinate[1][i] = corners[i][v];
-    polygon.coordinate[2][i] = corners[i][reference.axis];
-    polygon.incident_feature[i] = feature::box_vertex(bits);
-    polygon.reference_feature[i] = reference.face_feature;
-    polygon.outgoing_edge[i] = feature::box_edge(edge_direction, bits);
-    polygon.outgoing_side[i] = -1;
+    vertices.coordinate[0][i] = corners[i][u];
+    vertices.coordinate[1][i] = corners[i][v];
+    vertices.coordinate[2][i] = corners[i][reference.axis];
+    vertices.incident_feature[i] = feature::box_vertex(bits);
+    vertices.reference_feature[i] = reference.face_feature;
+    vertices.outgoing_edge[i] = feature::box_edge(edge_direction, bits);
+    vertices.outgoing_side[i] = -1;
+    polygon.vertex[i] = std::uint8_t(i);
   }
 }
 
-// GCC 12 cannot follow `count` through the passes below and warns that the buffers may be
-// read uninitialised (-Wmaybe-uninitialized, a false positive: every entry below `count` was
-// written by incident_face or by the previous pass).
+// GCC 12 cannot follow `count` through the passes below and warns that the buffers may be read
+// uninitialised (-Wmaybe-uninitialized, a false positive: every entry below `count` was written by
+// incident_face or by the previous pass).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 
-// One Sutherland-Hodgman pass against side plane `side` (a template, so that the coordinate and
-// the sign are constants). Returns false, leaving `out` untouched, when every vertex is inside.
+// One Sutherland-Hodgman pass against side plane `side` (a template, so that the coordinate and the
+// sign are constants). Returns false, leaving `out` untouched, when every vertex is inside.
 template <int side>
-bool clip_against_side(const ClipPolygon& in, const ReferenceFace& reference,
-                       std::uint16_t incident_face_feature, ClipPolygon& out) {
+bool clip_against_side(ClipVertices& vertices, const ClipLoop& in, const ReferenceFace& reference,
+                       std::uint16_t incident_face_feature, ClipLoop& out) {
   constexpr int across_index = side / 2;
   constexpr Real sign = side % 2 == 0 ? Real(1) : Real(-1);
   const Real bound = side < 2 ? reference.half_u : reference.half_v;
-  const auto& across = in.coordinate[across_index];
+  auto& coordinate = vertices.coordinate;
+  const auto& across = coordinate[across_index];
   const int count_in = std::min(in.count, kMaxClipVertices);
   Real farthest_out = -std::numeric_limits<Real>::infinity();
   for (int i = 0; i < count_in; ++i)
-    farthest_out = std::max(farthest_out, sign * across[i]);
+    farthest_out = std::max(farthest_out, sign * across[in.vertex[i]]);
   if (farthest_out - bound <= 0)
     return false;
 
   const std::uint16_t side_edge = reference.side_edge[side];
   int count = 0;
-  const Real first_distance = sign * across[0] - bound;
+  const Real first_distance = sign * across[in.vertex[0]] - bound;
   Real distance_p = first_distance;
-  for (int p = 0; p < count_in; ++p) {
+  for (int i = 0; i < count_in; ++i) {
     // Edge from p to q, the next vertex.
-    const bool q_is_first = p + 1 == count_in;
-    const int q = q_is_first ? 0 : p + 1;
+    const bool q_is_first = i + 1 == count_in;
+    const int p = in.vertex[i];
+    const int q = in.vertex[q_is_first ? 0 : i + 1];
     const Real distance_q = q_is_first ? first_distance : sign * across[q] - bound;
     const bool p_inside = distance_p <= 0;
     const bool crosses = p_inside != (distance_q <= 0);
-    for (int k = 0; k < 3; ++k)
-      out.coordinate[k][count] = in.coordinate[k][p];
-    out.incident_feature[count] = in.incident_feature[p];
-    out.reference_feature[count] = in.reference_feature[p];
-    out.outgoing_edge[count] = in.outgoing_edge[p];
-    out.outgoing_side[count] = in.outgoing_side[p];
+    out.vertex[count] = std::uint8_t(p);
     count += p_inside;
 
+    const int c = std::min(vertices.count, ClipVertices::kCapacity - 1);
     const Real fraction = distance_p / (crosses ? distance_p - distance_q : Real(1));
-    for (int k = 0; k < 3; ++k) {
-      out.coordinate[k][count] =
-          in.coordinate[k][p] + (in.coordinate[k][q] - in.coordinate[k][p]) * fraction;
-    }
-    // An incident edge crossing a side of the reference face, or a stretch along an earlier
-    // side plane crossing this one: a reference corner.
-    const std::int16_t p_side = in.outgoing_side[p];
+    for (int k = 0; k < 3; ++k)
+      coordinate[k][c] = coordinate[k][p] + (coordinate[k][q] - coordinate[k][p]) * fraction;
+    // An incident edge crossing a side of the reference face, or a stretch along an earlier side
+    // plane crossing this one: a reference corner.
+    const int p_side = vertices.outgoing_side[p];
     const bool along_incident_edge = p_side < 0;
-    out.incident_feature[count] = along_incident_edge ? in.outgoing_edge[p] : incident_face_feature;
-    out.reference_feature[count] =
+    vertices.incident_feature[c] =
+        along_incident_edge ? vertices.outgoing_edge[p] : incident_face_feature;
+    vertices.reference_feature[c] =
         along_incident_edge ? side_edge : reference.corner(p_side < 0 ? 0 : p_side, side);
-    out.outgoing_edge[count] = in.outgoing_edge[p];
+    vertices.outgoing_edge[c] = vertices.outgoing_edge[p];
     // Leaving the prism, the polygon now runs along this side plane to where it comes back in;
     // entering it, it continues along p's edge.
-    out.outgoing_side[count] = p_inside ? std::int16_t(side) : p_side;
+    vertices.outgoing_side[c] = std::int8_t(p_inside ? side : p_side);
+    out.vertex[count] = std::uint8_t(c);
     count += crosses;
+    vertices.count = c + crosses;
     distance_p = distance_q;
   }
   out.count = count;
@@ -277,15 +285,16 @@ int face_contacts(const PairInA& pair, bool reference_is_a, int reference_axis, 
   const ReferenceFace reference(reference_axis, incident.centre[reference_axis] >= 0,
                                 reference_is_a ? pair.half_a : pair.half_b);
   std::uint16_t incident_face_feature = 0;
-  // Clip back and forth between two buffers. Only their first `count` entries are ever read,
-  // and every pass writes those first; zeroing 2 KiB per query to tell the compiler so would
-  // cost more than the clipping.
-  ClipPolygon buffers[2];
-  ClipPolygon* polygon = &buffers[0];
-  ClipPolygon* scratch = &buffers[1];
-  incident_face(incident, reference, incident_face_feature, *polygon);
+  // Clip back and forth between two loops over one pool of vertices. Only entries below the counts
+  // are ever read, and every pass writes those first; zeroing them per query to tell the compiler
+  // so would cost more than the clipping.
+  ClipVertices vertices;
+  ClipLoop loops[2];
+  ClipLoop* polygon = &loops[0];
+  ClipLoop* scratch = &loops[1];
+  incident_face(incident, reference, incident_face_feature, vertices, *polygon);
   const auto clip = [&](auto pass) {
-    if (polygon->count > 0 && pass(*polygon, reference, incident_face_feature, *scratch))
+    if (polygon->count > 0 && pass(vertices, *polygon, reference, incident_face_feature, *scratch))
       std::swap(polygon, scratch);
   };
   clip(clip_against_side<0>);
@@ -293,47 +302,44 @@ int face_contacts(const PairInA& pair, bool reference_is_a, int reference_axis, 
   clip(clip_against_side<2>);
   clip(clip_against_side<3>);
 
-  // The manifold normal (from B to A) is -+ the reference face's outward normal; in the
-  // reference frame it is +-e_axis. The contact plane's coordinates are (u, v), or (v, u), so
-  // that their cross product is the manifold normal, as reduce_manifold measures areas.
+  // The manifold normal (from B to A) is -+ the reference face's outward normal; in the reference
+  // frame it is +-e_axis. The contact plane's coordinates are (u, v), or (v, u), so that their
+  // cross product is the manifold normal, as reduce_manifold measures areas.
   const Real face_sign = reference.positive ? Real(1) : Real(-1);
   const Real normal_sign = reference_is_a ? -face_sign : face_sign;
   const int first_planar = normal_sign > 0 ? 0 : 1;
 
   std::array<PlanarCandidate, kMaxClipVertices> candidates;
-  std::array<int, kMaxClipVertices> sources;  // vertex of *source
-  const ClipPolygon* source = polygon;
+  std::array<int, kMaxClipVertices> sources;  // indices into `vertices`
   int candidate_count = 0;
   closest_height = std::numeric_limits<Real>::infinity();
   const auto add_candidate = [&](int vertex, Real separation) {
-    candidates[candidate_count] = {source->coordinate[first_planar][vertex],
-                                   source->coordinate[1 - first_planar][vertex], -separation};
+    candidates[candidate_count] = {vertices.coordinate[first_planar][vertex],
+                                   vertices.coordinate[1 - first_planar][vertex], -separation};
     sources[candidate_count++] = vertex;
   };
   const int clipped_count = std::min(polygon->count, kMaxClipVertices);
   for (int i = 0; i < clipped_count; ++i) {
     // Height of the incident point above the reference face; depth is its negative.
-    const Real separation = reference.height(polygon->coordinate[2][i]);
+    const int vertex = polygon->vertex[i];
+    const Real separation = reference.height(vertices.coordinate[2][vertex]);
     closest_height = std::min(closest_height, separation);
     if (-separation >= -margin)
-      add_candidate(i, separation);
+      add_candidate(vertex, separation);
   }
   if (candidate_count == 0) {
-    // Rounding clipped everything away, or the clipped face lies above the margin while a
-    // corner outside the reference face is deep (a face kept by the hysteresis over a slightly
-    // better edge axis): keep the deepest incident corner, so that boxes that touch never go
-    // without a point.
-    ClipPolygon& corners = *scratch;
-    incident_face(incident, reference, incident_face_feature, corners);
+    // Rounding clipped everything away, or the clipped face lies above the margin while a corner
+    // outside the reference face is deep (a face kept by the hysteresis over a slightly better edge
+    // axis): keep the deepest incident corner (the pool's first four vertices), so that boxes that
+    // touch never go without a point.
     int deepest = 0;
     for (int i = 1; i < 4; ++i) {
-      if (reference.height(corners.coordinate[2][i]) <
-          reference.height(corners.coordinate[2][deepest])) {
+      if (reference.height(vertices.coordinate[2][i]) <
+          reference.height(vertices.coordinate[2][deepest])) {
         deepest = i;
       }
     }
-    const Real separation = reference.height(corners.coordinate[2][deepest]);
-    source = &corners;
+    const Real separation = reference.height(vertices.coordinate[2][deepest]);
     if (-separation >= -margin)
       add_candidate(deepest, separation);
   }
@@ -351,13 +357,13 @@ int face_contacts(const PairInA& pair, bool reference_is_a, int reference_axis, 
     const Real depth = candidates[kept[i]].depth;
     // Midway between the incident point and its projection onto the reference face.
     Vec3 midway;
-    midway[u] = source->coordinate[0][vertex];
-    midway[v] = source->coordinate[1][vertex];
-    midway[reference_axis] = source->coordinate[2][vertex] + face_sign * depth * Real(0.5);
+    midway[u] = vertices.coordinate[0][vertex];
+    midway[v] = vertices.coordinate[1][vertex];
+    midway[reference_axis] = vertices.coordinate[2][vertex] + face_sign * depth * Real(0.5);
     const FeatureId id =
         reference_is_a
-            ? FeatureId{source->reference_feature[vertex], source->incident_feature[vertex]}
-            : FeatureId{source->incident_feature[vertex], source->reference_feature[vertex]};
+            ? FeatureId{vertices.reference_feature[vertex], vertices.incident_feature[vertex]}
+            : FeatureId{vertices.incident_feature[vertex], vertices.reference_feature[vertex]};
     out.add(reference_centre + reference_axes * midway, depth, id);
   }
   return out.count;
@@ -372,10 +378,9 @@ Vec3 corner_in_own_frame(const Vec3& half, int sign_bits) {
               (sign_bits & 4) ? half[2] : -half[2]);
 }
 
-// Edge contact: the edge of A along axis i and the edge of B along axis j that are extreme
-// along the normal (A's deepest towards B, B's towards A); one point at their closest points,
-// computed in A's frame. Returns the count and sets `gap` to the distance between the two
-// closest points.
+// Edge contact: the edge of A along axis i and the edge of B along axis j that are extreme along
+// the normal (A's deepest towards B, B's towards A); one point at their closest points, computed in
+// A's frame. Returns the count and sets `gap` to the distance between the two closest points.
 int edge_contact(const PairInA& pair, const Axis& axis, Real margin, Manifold& out, Real& gap) {
   const int i = axis.index_a;
   const int j = axis.index_b;
@@ -408,8 +413,8 @@ int edge_contact(const PairInA& pair, const Axis& axis, Real margin, Manifold& o
   return out.count;
 }
 
-// The points of `axis`; `realised_gap` gets the distance between the two bodies' points that
-// the axis's points join (the smallest for a face), an upper bound of the boxes' distance.
+// The points of `axis`; `realised_gap` gets the distance between the two bodies' points that the
+// axis's points join (the smallest for a face), an upper bound of the boxes' distance.
 int contacts_for_axis(const PairInA& pair, const Axis& axis, Real margin, Manifold& out,
                       Real& realised_gap) {
   switch (axis.kind) {
@@ -423,7 +428,8 @@ int contacts_for_axis(const PairInA& pair, const Axis& axis, Real margin, Manifo
   return 0;
 }
 
-// ---- Exact closest features of boxes that are apart -------------------------------------------
+// ---- Exact closest features of boxes that are apart
+// -------------------------------------------
 
 struct Box {
   Vec3 centre;
@@ -493,11 +499,11 @@ ClosestFeatures closest_features(const Box& a, const Box& b) {
   return best;
 }
 
-// The edge axis a_i x b_j (Gottschalk et al. 1996, table 1). In A's frame its components are 0
-// at i, -r(i2, j) at i1 and r(i1, j) at i2 (i1, i2 the next two axes), so with L = a_i x b_j:
-// t . L = t_i2 r(i1, j) - t_i1 r(i2, j), A's radius ha_i1 |r(i2, j)| + ha_i2 |r(i1, j)|, B's
-// radius hb_j1 |r(i, j2)| + hb_j2 |r(i, j1)|, and |L|^2 = r(i1, j)^2 + r(i2, j)^2 (no
-// cancellation, unlike 1 - r(i, j)^2). The separation along the unit axis is excess / |L|.
+// The edge axis a_i x b_j (Gottschalk et al. 1996, table 1). In A's frame its components are 0 at
+// i, -r(i2, j) at i1 and r(i1, j) at i2 (i1, i2 the next two axes), so with L = a_i x b_j: t . L =
+// t_i2 r(i1, j) - t_i1 r(i2, j), A's radius ha_i1 |r(i2, j)| + ha_i2 |r(i1, j)|, B's radius hb_j1
+// |r(i, j2)| + hb_j2 |r(i, j1)|, and |L|^2 = r(i1, j)^2 + r(i2, j)^2 (no cancellation, unlike 1 -
+// r(i, j)^2). The separation along the unit axis is excess / |L|.
 struct EdgeAxisTerms {
   Real along;           // t . L
   Real excess;          // |t . L| - radius_a - radius_b
@@ -533,11 +539,11 @@ Axis edge_axis(const PairInA& pair, int i, int j, Real along, Real squared_lengt
   return axis;
 }
 
-// The most separated edge axis, the first on ties (separation -infinity when every pair of
-// edges is parallel). The lanes are ranked by the signed square of their separation,
-// excess |excess| / squared_length (nine independent divisions, no square root), in a
-// tournament whose left side wins ties, so the first lane wins and the chain of comparisons is
-// four deep instead of nine; only the winner's separation is computed.
+// The most separated edge axis, the first on ties (separation -infinity when every pair of edges is
+// parallel). The lanes are ranked by the signed square of their separation, excess |excess| /
+// squared_length (nine independent divisions, no square root), in a tournament whose left side wins
+// ties, so the first lane wins and the chain of comparisons is four deep instead of nine; only the
+// winner's separation is computed.
 Axis best_edge_axis(const PairInA& pair, const std::array<EdgeAxisTerms, 9>& terms) {
   std::array<Real, 9> key;
   for (int lane = 0; lane < 9; ++lane) {
@@ -579,8 +585,8 @@ int box_box(const Shape& shape_a, const Transform& pose_a, const Shape& shape_b,
   pair.rotation_b = pose_b.rotation;
   pair.half_a = shape_a.half_extents;
   pair.half_b = shape_b.half_extents;
-  // B's rotation relative to A's: one quaternion product instead of a second rotation matrix
-  // and a matrix product.
+  // B's rotation relative to A's: one quaternion product instead of a second rotation matrix and a
+  // matrix product.
   pair.r = (pose_a.rotation.conjugate() * pose_b.rotation).toRotationMatrix();
   pair.abs_r = pair.r.cwiseAbs();
   pair.t.noalias() = pair.axes_a.transpose() * (pair.centre_b - pair.centre_a);
@@ -591,14 +597,16 @@ int box_box(const Shape& shape_a, const Transform& pose_a, const Shape& shape_b,
   const Vec3& hb = pair.half_b;
 
   // All fifteen separations are computed before any is compared: branches on them would be
-  // mispredicted about half the time, and straight-line arithmetic is cheaper than that.
-  // Face axes of A: the centres are |t_i| apart along a_i; of B: |(r^T t)_j| along b_j.
+  // mispredicted about half the time, and straight-line arithmetic is cheaper than that. Face axes
+  // of A: the centres are |t_i| apart along a_i; of B: |(r^T t)_j| along b_j.
   const Vec3 t_in_b = r.transpose() * t;
   const Vec3 face_a_separation = t.cwiseAbs() - ha - abs_r * hb;
   const Vec3 face_b_separation = t_in_b.cwiseAbs() - hb - abs_r.transpose() * ha;
   // Edge axes, lane 3 i + j for a_i x b_j.
   std::array<EdgeAxisTerms, 9> edge_terms;
+#pragma GCC unroll 3
   for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
     for (int j = 0; j < 3; ++j)
       edge_terms[3 * i + j] = edge_axis_terms(pair, i, j);
   }
@@ -629,8 +637,8 @@ int box_box(const Shape& shape_a, const Transform& pose_a, const Shape& shape_b,
   const int count = contacts_for_axis(pair, chosen, margin, out, realised_gap);
   if (chosen.separation <= 0)
     return count;
-  // Apart, within the margin: the chosen axis stands when its own points are as far apart as
-  // its separation (see the file comment); otherwise report the exact distance.
+  // Apart, within the margin: the chosen axis stands when its own points are as far apart as its
+  // separation (see the file comment); otherwise report the exact distance.
   if (count > 0 && realised_gap <= chosen.separation + kRealisesDistanceTolerance * scale)
     return count;
   out = Manifold{};

@@ -166,15 +166,11 @@ Vec3 normalized_or(const Vec3& v, const Vec3& fallback);
 // replaces the incumbent only when its separation is clearly larger, by 2% of the incumbent's
 // magnitude plus 1e-5 of the pair's size. Edge axes that equal a face axis up to rounding then
 // never win, and the chosen feature does not flip between steps from noise alone.
-// separation_to_beat is the bar itself, for callers that test many candidates against one
-// incumbent.
-inline Real separation_to_beat(Real incumbent, Real scale) {
+inline bool clearly_more_separated(Real candidate, Real incumbent, Real scale) {
   constexpr Real kRelative = Real(0.02);
   constexpr Real kAbsolute = Real(1e-5);
-  return incumbent + kRelative * (incumbent < 0 ? -incumbent : incumbent) + kAbsolute * scale;
-}
-inline bool clearly_more_separated(Real candidate, Real incumbent, Real scale) {
-  return candidate > separation_to_beat(incumbent, scale);
+  return candidate >
+         incumbent + kRelative * (incumbent < 0 ? -incumbent : incumbent) + kAbsolute * scale;
 }
 
 // Writes a contact from its two surface points' description: the point on A, the normal (B to
