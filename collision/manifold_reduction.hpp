@@ -19,4 +19,17 @@ namespace tumble {
 int reduce_manifold(const Vec3& normal, std::span<const ContactPoint> candidates,
                     std::array<int, kMaxManifoldPoints>& kept);
 
+// A candidate already in the contact plane: coordinates (u, v) on two orthonormal directions
+// perpendicular to the normal, and its depth.
+struct PlanarCandidate {
+  Real u;
+  Real v;
+  Real depth;
+};
+
+// The same choice as reduce_manifold for candidates given in the contact plane (a box's face
+// frame gives them for free), without projecting: the same points up to rounding.
+int reduce_planar_manifold(std::span<const PlanarCandidate> candidates,
+                           std::array<int, kMaxManifoldPoints>& kept);
+
 }  // namespace tumble
