@@ -154,12 +154,15 @@ Aabb world_aabb(const Shape& shape, const Transform& pose) {
     }
     case ShapeType::cylinder: {
       // Exact box of a disc pair: a cap disc of radius r with unit normal u extends
-      // r sqrt(1 - u_k^2) along world axis k.
+      // r sqrt(1 - u_k^2) = r sqrt(u_i^2 + u_j^2) along world axis k. The second form: the first
+      // cancels when u is near axis k and then loses up to 1e-8 r (the box came out too small).
       const Vec3 u = pose.rotation * Vec3::UnitZ();
       Vec3 e;
-      for (int k = 0; k < 3; ++k)
-        e[k] = std::abs(u[k]) * shape.half_length +
-               shape.radius * std::sqrt(std::max(Real(0), Real(1) - u[k] * u[k]));
+      for (int k = 0; k < 3; ++k) {
+        const Real i = u[(k + 1) % 3];
+        const Real j = u[(k + 2) % 3];
+        e[k] = std::abs(u[k]) * shape.half_length + shape.radius * std::sqrt(i * i + j * j);
+      }
       return {c - e, c + e};
     }
     case ShapeType::hull: {

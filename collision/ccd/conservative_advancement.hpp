@@ -93,7 +93,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
       return out;
     }
     Real approach = full_speed;
-    if (both_linear && d.has_normal)
+    if (both_linear && d.separating_normal)
       approach = std::max(Real(0), -relative_velocity.dot(d.normal));
     const Real bound = approach + spin_bound;
     // Advance until the gap could have closed to the target (never past it).

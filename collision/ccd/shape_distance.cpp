@@ -2,9 +2,66 @@
 
 #include <cmath>
 
+#include "collision/compound_shape.hpp"
+#include "collision/epa.hpp"
+#include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/triangle_mesh.hpp"
 
 namespace tumble {
+namespace {
+
+// A convex shape against a static triangle mesh: the exact signed distance to the nearest
+// triangle within `max_distance` (GJK on the shape's core and the triangle's corners, EPA when
+// they overlap), with the normal from the mesh to the shape. Not the narrow phase's contact
+// depth: its internal-edge rule replaces some normals by a face normal, which is right for a
+// contact but is not a distance (it can be larger than the true distance near a convex edge, and
+// the advancement would then step past the contact). The query runs in a frame centred on the
+// convex shape, for precision far from the origin.
+DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
+                                   const Shape& mesh_shape, const Transform& pose_m,
+                                   Real max_distance) {
+  const TriangleMesh& mesh = *mesh_shape.mesh;
+  // The convex shape in the mesh's frame, for the BVH query.
+  const Transform in_mesh{pose_m.apply_inverse(pose_c.translation),
+                          pose_m.rotation.conjugate() * pose_c.rotation};
+  const Aabb reach = world_aabb(convex, in_mesh).inflated(std::max(max_distance, Real(0)));
+  const ConvexSupport shape_support = ConvexSupport::of(convex, {Vec3::Zero(), pose_c.rotation});
+  // The normal found is the nearest triangle's, not a separating axis of the mesh:
+  // separating_normal stays false.
+  DistanceBound out;
+  out.distance = max_distance;
+  out.separating_normal = false;
+  bool found = false;
+  mesh.for_each_overlapping(reach, [&](int t) {
+    // Corners in the world frame, then relative to the shape's centre.
+    std::array<Vec3, 3> corners;
+    for (int k = 0; k < 3; ++k)
+      corners[std::size_t(k)] = pose_m.apply(mesh.corner(t, k)) - pose_c.translation;
+    const ConvexSupport triangle = ConvexSupport::of_points(corners.data(), 3, {});
+    const GjkResult g = gjk(shape_support, triangle);
+    Real distance = g.distance;
+    Vec3 normal = g.normal;
+    if (g.status == GjkStatus::intersecting) {
+      const EpaResult e = epa(shape_support, triangle, g);
+      distance = -e.depth;
+      normal = e.normal;
+    }
+    // Farther than asked counts as not measured; otherwise keep the nearest triangle.
+    if (!(distance <= max_distance) || (found && distance >= out.distance))
+      return;
+    out.distance = distance;
+    out.normal = normal;
+    found = true;
+  });
+  return out;
+}
+
+bool is_convex(const Shape& s) {
+  return s.type != ShapeType::mesh && s.type != ShapeType::plane && s.type != ShapeType::compound;
+}
+
+}  // namespace
 
 DistanceBound box_box_separation(const Vec3& half_a, const Transform& pose_a, const Vec3& half_b,
                                  const Transform& pose_b) {
@@ -46,6 +103,33 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
                                    const Transform& pose_b, Real max_distance) {
   if (a.type == ShapeType::box && b.type == ShapeType::box)
     return box_box_separation(a.half_extents, pose_a, b.half_extents, pose_b);
+  if (b.type == ShapeType::mesh && is_convex(a))
+    return convex_mesh_distance(a, pose_a, b, pose_b, max_distance);
+  if (a.type == ShapeType::mesh && is_convex(b)) {
+    DistanceBound d = convex_mesh_distance(b, pose_b, a, pose_a, max_distance);
+    d.normal = -d.normal;
+    return d;
+  }
+  // A compound against a mesh: its nearest part.
+  if (a.type == ShapeType::compound && b.type == ShapeType::mesh) {
+    DistanceBound best;
+    best.distance = max_distance;
+    best.separating_normal = false;
+    for (const CompoundPart& part : a.compound->parts()) {
+      const DistanceBound d =
+          shape_distance_bound(part.shape, compose(pose_a, part.pose), b, pose_b, max_distance);
+      if (d.distance < best.distance) {
+        best.distance = d.distance;
+        best.normal = d.normal;
+      }
+    }
+    return best;
+  }
+  if (a.type == ShapeType::mesh && b.type == ShapeType::compound) {
+    DistanceBound d = shape_distance_bound(b, pose_b, a, pose_a, max_distance);
+    d.normal = -d.normal;
+    return d;
+  }
   // Every other current pair of the narrow phase reports the exact signed distance of its
   // closest features as the deepest point's depth (sphere, capsule and plane pairs by closed
   // form, capsule-box by exact piecewise minimisation, box-plane by the lowest vertex).
@@ -53,7 +137,7 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
   DistanceBound out;
   if (collide(a, pose_a, b, pose_b, max_distance, m) == 0) {
     out.distance = max_distance;
-    out.has_normal = false;
+    out.separating_normal = false;
     return out;
   }
   Real deepest = m.points[0].depth;
@@ -61,6 +145,8 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
     deepest = std::max(deepest, m.points[i].depth);
   out.distance = -deepest;
   out.normal = m.normal;
+  // A compound's manifold normal is its nearest part's, not a separating axis of the whole.
+  out.separating_normal = a.type != ShapeType::compound && b.type != ShapeType::compound;
   return out;
 }
 

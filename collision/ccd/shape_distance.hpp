@@ -14,9 +14,13 @@ struct DistanceBound {
   // normal). Negative when they overlap (then minus a penetration depth).
   Real distance = 0;
   Vec3 normal = Vec3::UnitZ();  // unit, from B to A
-  // False when the shapes are farther than asked and no axis was measured: then `normal` means
-  // nothing and only the unprojected speed bounds the approach.
-  bool has_normal = true;
+  // True when `normal` separates the whole shapes (convex pairs): the gap along it then closes
+  // no faster than the relative velocity's component along it, and conservative advancement may
+  // use that component. False when the shapes are farther than asked and no axis was measured
+  // (`normal` means nothing), and when one shape is a mesh or compound (`normal` is the nearest
+  // triangle's or part's, and another may be approached faster from another direction): then
+  // only the unprojected speed bounds the approach.
+  bool separating_normal = true;
 };
 
 // `max_distance`: beyond it the answer may be any bound >= max_distance [m].

@@ -671,7 +671,7 @@ DistanceBound polytope_separation(const Shape& a, const Transform& pose_a, const
   DistanceBound out;
   if (!time_extended_sat_applies(a, b)) {
     out.distance = -kInfinity;
-    out.has_normal = false;
+    out.separating_normal = false;
     return out;
   }
   const Polytope pa(a);

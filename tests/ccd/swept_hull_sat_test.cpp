@@ -589,7 +589,7 @@ TEST(SweptHullSat, BadInputUnsupportedShapesAndTheCapGiveTheirStatus) {
             ToiStatus::invalid_input);
   EXPECT_FALSE(time_extended_sat_applies(cube, Shape::plane()));
   EXPECT_TRUE(time_extended_sat_applies(cube, Shape::convex_hull(box_hull(Vec3::Ones()))));
-  EXPECT_EQ(polytope_separation(Shape::sphere(1), {}, cube, {}).has_normal, false);
+  EXPECT_EQ(polytope_separation(Shape::sphere(1), {}, cube, {}).separating_normal, false);
   // One evaluation cannot settle a fast spin: the cap, with a safe time below the contact.
   ToiSettings one;
   one.max_iterations = 1;

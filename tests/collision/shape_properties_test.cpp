@@ -109,6 +109,29 @@ TEST(ShapeProperties, WorldAabbHoldsTheShapeAndIsTight) {
   EXPECT_EQ(tilted.min.z(), -inf);
 }
 
+// A cylinder whose axis is a hair off a world axis: the box along that axis is h |u_k| plus the
+// rim's r sqrt(1 - u_k^2), which cancels when written that way (up to 1e-8 r short, so a
+// broad-phase or mesh query missed contacts a few nanometres away); it must still touch the
+// support value.
+TEST(ShapeProperties, WorldAabbOfANearlyAxisAlignedCylinderIsExact) {
+  const Shape cylinder = Shape::cylinder(0.7, 0.4);
+  for (const Real tilt : {Real(1e-10), Real(1e-9), Real(1e-8), Real(3e-8), Real(1e-7)}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      // The cylinder's z axis turned onto world axis `axis`, then tilted by `tilt`.
+      const Quat onto = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::Unit(axis));
+      const Quat off(Eigen::AngleAxis<Real>(tilt, Vec3::Unit((axis + 1) % 3)));
+      const Transform pose{Vec3(0.3, -0.2, 0.1), (off * onto).normalized()};
+      const Aabb box = world_aabb(cylinder, pose);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(box.max[k], support_value(cylinder, pose, Vec3::Unit(k)), 1e-13)
+            << "tilt " << tilt << " axis " << axis << " k " << k;
+        EXPECT_NEAR(box.min[k], -support_value(cylinder, pose, -Vec3::Unit(k)), 1e-13)
+            << "tilt " << tilt << " axis " << axis << " k " << k;
+      }
+    }
+  }
+}
+
 TEST(ShapeProperties, BoundingRadiusHoldsEverySurfacePoint) {
   for (const Shape& shape : kShapes) {
     SCOPED_TRACE(name_of(shape));
