@@ -27,15 +27,22 @@ struct Block {
 // pairs, operation for operation, so the results match it bit for bit; written without branches
 // so that it vectorises, centres and radii fetched by gathers. Compiled for AVX-512, AVX2 and the
 // baseline, picked at load time by the CPU (GCC function multi-versioning): wider lanes, the
-// same IEEE operations in the same order, so the same bits on every machine. Returns the number
-// of pairs whose centres coincide (or are NaN/inf apart): their normal is set by fix_degenerate.
-__attribute__((target_clones("avx512f", "avx2", "default"))) int contacts_of_pairs(
+// same IEEE operations in the same order, so the same bits on every machine. Counts the pairs
+// within the margin, and returns the number whose centres coincide (or are NaN/inf apart):
+// their normal is set by fix_degenerate.
+struct KernelCounts {
+  std::int64_t touching = 0;
+  std::int64_t degenerate = 0;
+};
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) KernelCounts contacts_of_pairs(
     const Real* __restrict x, const Real* __restrict y, const Real* __restrict z,
     const Real* __restrict r, const SpherePair* __restrict pairs, std::size_t count,
     Real* __restrict out_depth, Real* __restrict out_nx, Real* __restrict out_ny,
     Real* __restrict out_nz, Real* __restrict out_px, Real* __restrict out_py,
-    Real* __restrict out_pz) {
-  int degenerate = 0;
+    Real* __restrict out_pz, Real margin) {
+  std::int64_t degenerate = 0;
+  std::int64_t touching = 0;
   constexpr Real kLargest = std::numeric_limits<Real>::max();
   for (std::size_t j = 0; j < count; ++j) {
     const std::int32_t ia = pairs[j].a;
@@ -47,21 +54,24 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) int contacts_of_pai
     const bool has_direction = (length > 0) & (length <= kLargest);
     // Divide in every lane, select after (a lane without direction divides by 0 or inf, and
     // its quotient is thrown away).
-    const Real qx = dx / length, qy = dy / length, qz = dz / length;
+    const Real inv = Real(1) / length;
+    const Real qx = dx * inv, qy = dy * inv, qz = dz * inv;
     const Real nx = has_direction ? qx : Real(0);
     const Real ny = has_direction ? qy : Real(0);
     const Real nz = has_direction ? qz : Real(1);
     degenerate += has_direction ? 0 : 1;
     const Real depth = ar + br - length;
-    out_px[j] = ((ax - nx * ar) + (bx + nx * br)) * Real(0.5);
-    out_py[j] = ((ay - ny * ar) + (by + ny * br)) * Real(0.5);
-    out_pz[j] = ((az - nz * ar) + (bz + nz * br)) * Real(0.5);
+    const Real shift = (br - ar) * Real(0.5);
+    out_px[j] = (ax + bx) * Real(0.5) + nx * shift;
+    out_py[j] = (ay + by) * Real(0.5) + ny * shift;
+    out_pz[j] = (az + bz) * Real(0.5) + nz * shift;
     out_nx[j] = nx;
     out_ny[j] = ny;
     out_nz[j] = nz;
     out_depth[j] = depth;
+    touching += depth >= -margin ? 1 : 0;  // NaN fails, as in collide()
   }
-  return degenerate;
+  return {touching, degenerate};
 }
 
 // Coincident centres (or a NaN/inf offset): the smaller sphere (of equal ones the
@@ -84,7 +94,7 @@ void fix_degenerate(const SphereArrays& s, const SpherePair* pairs, std::size_t 
         x[ia] < x[ib] || (x[ia] == x[ib] && (y[ia] < y[ib] || (y[ia] == y[ib] && z[ia] <= z[ib])));
     const bool goes_up = r[ia] != r[ib] ? r[ia] < r[ib] : lower;
     nz[j] = goes_up ? Real(1) : Real(-1);
-    pz[j] = ((z[ia] - nz[j] * r[ia]) + (z[ib] + nz[j] * r[ib])) * Real(0.5);
+    pz[j] = (z[ia] + z[ib]) * Real(0.5) + nz[j] * ((r[ib] - r[ia]) * Real(0.5));
   }
 }
 
@@ -94,15 +104,12 @@ std::size_t collide_sphere_pairs_dense(const SphereArrays& spheres,
                                        std::span<const SpherePair> pairs, Real margin,
                                        const SphereContactArrays& out) {
   const std::size_t n = pairs.size();
-  const int degenerate =
+  const KernelCounts counts =
       contacts_of_pairs(spheres.x, spheres.y, spheres.z, spheres.radius, pairs.data(), n, out.depth,
-                        out.normal_x, out.normal_y, out.normal_z, out.x, out.y, out.z);
-  if (degenerate > 0)
+                        out.normal_x, out.normal_y, out.normal_z, out.x, out.y, out.z, margin);
+  if (counts.degenerate > 0)
     fix_degenerate(spheres, pairs.data(), n, out.normal_z, out.z);
-  std::size_t touching = 0;
-  for (std::size_t j = 0; j < n; ++j)
-    touching += out.depth[j] >= -margin ? 1 : 0;  // NaN fails, as in collide()
-  return touching;
+  return static_cast<std::size_t>(counts.touching);
 }
 
 std::size_t collide_sphere_pairs(const SphereArrays& spheres, std::span<const SpherePair> pairs,
@@ -116,7 +123,8 @@ std::size_t collide_sphere_pairs(const SphereArrays& spheres, std::span<const Sp
     const SpherePair* block_pairs = pairs.data() + start;
     if (contacts_of_pairs(spheres.x, spheres.y, spheres.z, spheres.radius, block_pairs, count,
                           block.depth.data(), block.nx.data(), block.ny.data(), block.nz.data(),
-                          block.px.data(), block.py.data(), block.pz.data()) > 0)
+                          block.px.data(), block.py.data(), block.pz.data(), margin)
+            .degenerate > 0)
       fix_degenerate(spheres, block_pairs, count, block.nz.data(), block.pz.data());
     // Write every pair to the next free slot and advance only past those within the margin: no
     // branch to mispredict (out has room for all pairs). NaN fails, as in collide().

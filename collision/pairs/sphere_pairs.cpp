@@ -25,13 +25,14 @@ int sphere_sphere(const Shape& a, const Transform& pose_a, const Shape& b, const
                   Real margin, Manifold& out) {
   // Written symmetric in A and B, so the table calls it as it is (no ordering rule, no pair
   // frame): with A and B swapped, `between` and the normal change sign exactly, the length and
-  // depth do not change, and the position sums the same two terms in the other order. It works
+  // depth do not change, and the position adds the same centres in the other order and the same
+  // offset (both factors change sign). One division for the normal, not three. It works
   // on the world translations directly; their difference is as precise as in a pair frame.
   const Vec3 between = pose_a.translation - pose_b.translation;
   const Real length = between.norm();
   Vec3 normal;
   if (length > 0 && length <= std::numeric_limits<Real>::max()) {
-    normal = between / length;
+    normal = between * (Real(1) / length);
   } else {
     // Coincident centres (or a NaN/inf offset) have no preferred direction: push the smaller
     // sphere (of equal ones, the lexicographically lower centre) up the world z axis - a ball
@@ -45,9 +46,10 @@ int sphere_sphere(const Shape& a, const Transform& pose_a, const Shape& b, const
   if (!(depth >= -margin))
     return 0;
   out.normal = normal;
-  out.add(((pose_a.translation - normal * a.radius) + (pose_b.translation + normal * b.radius)) *
-              Real(0.5),
-          depth, {feature::kSphere, feature::kSphere});
+  // Midway between the surface points a - n r_a and b + n r_b.
+  const Real shift = (b.radius - a.radius) * Real(0.5);
+  out.add((pose_a.translation + pose_b.translation) * Real(0.5) + normal * shift, depth,
+          {feature::kSphere, feature::kSphere});
   return out.count;
 }
 
