@@ -18,6 +18,7 @@
 
 #include "collision/broad_phase.hpp"
 #include "collision/brute_force_broad_phase.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::test {
 
@@ -126,17 +127,6 @@ struct PropertyOptions {
 
 namespace detail {
 
-// TUMBLE_PROPERTY_SCALE (default 1) scales the number of random steps. The sanitizer pass of
-// scripts/test.sh sets it below 1: there the point is memory and undefined-behaviour errors on
-// every code path, which a shorter run still reaches, not more random cases.
-inline double property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  if (text == nullptr)
-    return 1.0;
-  const double scale = std::strtod(text, nullptr);
-  return scale > 0 && scale <= 1 ? scale : 1.0;
-}
-
 class RandomWorld {
  public:
   // The region grows with the cube root of the count so that each box overlaps about one
@@ -212,7 +202,7 @@ inline std::int64_t check_against_brute_force(const BroadPhaseFactory& make, Lay
   PropertyOptions capped = options;
   if (layout == Layout::at_one_point)
     capped.bodies = std::min(options.bodies, 200);
-  capped.steps = std::max(4, static_cast<int>(options.steps * detail::property_scale()));
+  capped.steps = std::max(4, static_cast<int>(options.steps * property_scale()));
   const PropertyOptions& opts = capped;
   detail::RandomWorld world(layout, opts.seed, opts.bodies);
   auto tested = make();
@@ -290,7 +280,7 @@ inline std::int64_t check_against_brute_force(const BroadPhaseFactory& make, Lay
 inline void check_every_layout(const BroadPhaseFactory& make, const PropertyOptions& options = {}) {
   for (Layout layout : all_layouts()) {
     const std::int64_t compared = check_against_brute_force(make, layout, options);
-    EXPECT_GT(compared, options.steps * detail::property_scale())
+    EXPECT_GT(compared, options.steps * property_scale())
         << layout_name(layout) << ": too few pairs to mean much";
   }
 }

@@ -5,21 +5,9 @@
 #include <random>
 
 #include "collision/math.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
-
-// TUMBLE_PROPERTY_SCALE (default 1) scales the number of random cases (the sanitizer run sets
-// 0.25), as in tests/broad_phase/broad_phase_property.hpp.
-inline int scaled(int cases) {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  double scale = 1.0;
-  if (text != nullptr) {
-    const double s = std::strtod(text, nullptr);
-    if (s > 0 && s <= 1)
-      scale = s;
-  }
-  return std::max(1, static_cast<int>(cases * scale));
-}
 
 inline Vec3 random_vector(std::mt19937_64& rng, Real lo, Real hi) {
   std::uniform_real_distribution<Real> u(lo, hi);

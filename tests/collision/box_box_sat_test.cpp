@@ -32,19 +32,10 @@
 #include "collision/manifold_reduction.hpp"
 #include "collision/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
-
-Real property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const Real scale = text != nullptr ? std::atof(text) : 1.0;
-  return scale > 0 ? scale : 1.0;
-}
-
-int scaled(int count) {
-  return std::max(1, int(count * property_scale()));
-}
 
 struct BruteAxis {
   Vec3 direction = Vec3::Zero();  // unit, from B to A

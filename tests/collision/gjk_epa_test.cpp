@@ -15,19 +15,10 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
-
-Real property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const Real scale = text != nullptr ? std::atof(text) : 1.0;
-  return scale > 0 ? scale : 1.0;
-}
-
-int scaled(int count) {
-  return std::max(1, int(count * property_scale()));
-}
 
 // Signed distance from GJK, or -depth from EPA when the cores intersect.
 struct Query {

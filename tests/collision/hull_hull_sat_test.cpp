@@ -24,6 +24,7 @@
 #include "collision/pairs/hull_hull_sat.hpp"
 #include "collision/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
@@ -34,16 +35,6 @@ using detail::SatResult;
 using detail::SatStatus;
 
 constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
-
-Real property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const Real scale = text != nullptr ? std::atof(text) : 1.0;
-  return scale > 0 ? scale : 1.0;
-}
-
-int scaled(int count) {
-  return std::max(1, int(count * property_scale()));
-}
 
 Shape hull_from(std::vector<Vec3> points) {
   return Shape::convex_hull(std::make_shared<const ConvexHull>(ConvexHull::from_points(points)));

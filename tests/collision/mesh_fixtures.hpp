@@ -7,6 +7,7 @@
 
 #include "collision/shape.hpp"
 #include "collision/triangle_mesh.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 
@@ -53,15 +54,6 @@ inline TriangleMesh box_mesh(const Vec3& h, const Transform& pose = {}) {
 
 inline Shape mesh_shape(TriangleMesh mesh) {
   return Shape::triangle_mesh(std::make_shared<const TriangleMesh>(std::move(mesh)));
-}
-
-// TUMBLE_PROPERTY_SCALE (default 1) scales random case counts (the sanitizer run sets 0.25).
-inline int scaled(int count) {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  double scale = text == nullptr ? 1.0 : std::strtod(text, nullptr);
-  if (!(scale > 0 && scale <= 1))
-    scale = 1;
-  return std::max(1, int(count * scale));
 }
 
 }  // namespace tumble::testing

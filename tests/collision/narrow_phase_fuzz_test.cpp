@@ -21,15 +21,10 @@
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
-
-Real property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const Real scale = text != nullptr ? std::atof(text) : 1.0;
-  return scale > 0 ? scale : 1.0;
-}
 
 // Points for a degenerate-ish hull of size `size`: kind 0 nearly flat, 1 needle, 2 many duplicates,
 // 3 a tiny cluster plus one far point, 4 exactly flat (refused), 5 exactly collinear (refused),

@@ -33,15 +33,10 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
-
-Real property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const Real scale = text != nullptr ? std::atof(text) : 1.0;
-  return scale > 0 ? scale : 1.0;
-}
 
 std::unique_ptr<btConvexShape> bullet_shape(const Shape& s) {
   std::unique_ptr<btConvexShape> shape;

@@ -22,20 +22,10 @@
 #include "collision/ccd/rigid_motion.hpp"
 #include "engine/continuous_collision.hpp"
 #include "engine/world.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::test {
 namespace {
-
-int scaled(int cases) {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  double scale = 1.0;
-  if (text != nullptr) {
-    const double s = std::strtod(text, nullptr);
-    if (s > 0 && s <= 1)
-      scale = s;
-  }
-  return std::max(1, static_cast<int>(cases * scale));
-}
 
 Vec3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<Real> n(0, 1);

@@ -9,19 +9,13 @@
 #include <cstdio>
 
 #include "tests/physics/scene_fixture.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::test {
 namespace {
 
 int scaled_steps(int steps) {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  double scale = 1.0;
-  if (text != nullptr) {
-    const double s = std::strtod(text, nullptr);
-    if (s > 0 && s <= 1)
-      scale = s;
-  }
-  return std::max(1, static_cast<int>(steps * scale));
+  return scaled(steps);
 }
 
 // Bodies whose centre is beyond a wall's outer face (interior half size 50 m, walls 0.5 m).

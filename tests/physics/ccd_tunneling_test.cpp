@@ -20,20 +20,10 @@
 #include "collision/convex_hull.hpp"
 #include "engine/world.hpp"
 #include "tests/physics/scene_fixture.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::test {
 namespace {
-
-int scaled(int cases) {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  double scale = 1.0;
-  if (text != nullptr) {
-    const double s = std::strtod(text, nullptr);
-    if (s > 0 && s <= 1)
-      scale = s;
-  }
-  return std::max(1, static_cast<int>(cases * scale));
-}
 
 BodyDesc dynamic_body(const Shape& shape, const Vec3& position, const Vec3& velocity) {
   BodyDesc b;

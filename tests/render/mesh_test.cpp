@@ -13,15 +13,10 @@
 #include "collision/compound_shape.hpp"
 #include "collision/triangle_mesh.hpp"
 #include "renders/mesh.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::render {
 namespace {
-
-double property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  const double scale = text ? std::strtod(text, nullptr) : 1.0;
-  return scale > 0 && scale <= 1 ? scale : 1.0;
-}
 
 // Every triangle faces away from the centre of mass (true for convex shapes centred at the
 // origin) and every normal is unit and on the same side as its triangle's face.

@@ -15,19 +15,9 @@
 #include "collision/narrow_phase.hpp"
 #include "engine/world.hpp"
 #include "scenes/scene_loader.hpp"
+#include "tests/property_scale.hpp"
 
 namespace tumble::test {
-
-// TUMBLE_PROPERTY_SCALE (default 1): the sanitizer run sets it below 1 and the costly scenes
-// then run for that fraction of their time (at least 1 s); the full-length runs are the Release
-// ones.
-inline double property_scale() {
-  const char* text = std::getenv("TUMBLE_PROPERTY_SCALE");
-  if (text == nullptr)
-    return 1.0;
-  const double scale = std::strtod(text, nullptr);
-  return scale > 0 && scale <= 1 ? scale : 1.0;
-}
 
 inline std::shared_ptr<Scene> stability_scene(const std::string& name, SolverType solver) {
   auto scene = std::make_shared<Scene>(
