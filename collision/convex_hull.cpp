@@ -264,41 +264,6 @@ ConvexHull ConvexHull::from_points(std::span<const Vec3> points) {
   return hull;
 }
 
-int ConvexHull::support_index(const Vec3& d, int start) const {
-  const int n = int(vertices_.size());
-  if (n <= kHullScanLimit) {
-    int best = 0;
-    Real best_value = vertices_[0].dot(d);
-    for (int i = 1; i < n; ++i) {
-      const Real value = vertices_[std::size_t(i)].dot(d);
-      if (value > best_value) {
-        best_value = value;
-        best = i;
-      }
-    }
-    return best;
-  }
-  int current = (start >= 0 && start < n) ? start : 0;
-  Real current_value = vertices_[std::size_t(current)].dot(d);
-  // Strict improvement only, so the climb ends; a convex polytope has no local maxima.
-  for (int steps = 0; steps < n; ++steps) {
-    int next = current;
-    for (int k = neighbour_start_[std::size_t(current)];
-         k < neighbour_start_[std::size_t(current) + 1]; ++k) {
-      const int v = neighbours_[std::size_t(k)];
-      const Real value = vertices_[std::size_t(v)].dot(d);
-      if (value > current_value) {
-        current_value = value;
-        next = v;
-      }
-    }
-    if (next == current)
-      break;
-    current = next;
-  }
-  return current;
-}
-
 int ConvexHull::best_face(const Vec3& direction) const {
   int best = 0;
   Real best_value = -std::numeric_limits<Real>::infinity();

@@ -10,46 +10,6 @@
 
 namespace tumble::detail {
 
-// Index of a hull vertex farthest along d. Big hulls climb the vertex graph from `start` and
-// move to the first neighbour that is higher (a convex polytope has no local maxima, and the
-// strict increase ends the climb): from a nearby start, as GJK's and EPA's previous support
-// vertices are, that reads fewer neighbours than the steepest step would. Small hulls are
-// scanned. Inline here so the support call of GJK and EPA has no call in its inner loop.
-inline int hull_support_index(const ConvexHull& hull, const Vec3& d, int start) {
-  const std::span<const Vec3> vertices = hull.vertices();
-  const int n = int(vertices.size());
-  if (n <= kHullScanLimit) {
-    int best = 0;
-    Real best_value = vertices[0].dot(d);
-    for (int i = 1; i < n; ++i) {
-      const Real value = vertices[std::size_t(i)].dot(d);
-      if (value > best_value) {
-        best_value = value;
-        best = i;
-      }
-    }
-    return best;
-  }
-  const std::span<const int> neighbours = hull.neighbours();
-  int current = (start >= 0 && start < n) ? start : 0;
-  Real current_value = vertices[std::size_t(current)].dot(d);
-  int k = hull.neighbour_start(current);
-  int end = hull.neighbour_start(current + 1);
-  while (k < end) {
-    const int v = neighbours[std::size_t(k)];
-    const Real value = vertices[std::size_t(v)].dot(d);
-    if (value > current_value) {
-      current = v;
-      current_value = value;
-      k = hull.neighbour_start(current);
-      end = hull.neighbour_start(current + 1);
-    } else {
-      ++k;
-    }
-  }
-  return current;
-}
-
 // Core support of `s` in its own local frame; `index` is the hill-climbing hint in and the
 // feature index out.
 inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index) {
@@ -95,7 +55,7 @@ inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index
       return {0, 0, z};
     }
     case ShapeType::hull: {
-      index = hull_support_index(*shape.hull, d, index);
+      index = shape.hull->support_index(d, index);
       return shape.hull->vertex(index);
     }
     case ShapeType::plane:

@@ -233,54 +233,52 @@ void BM_SphereSphereArray_Tumble(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kSpherePairs);
 }
 
-// The batched path (collision/sphere_batch.hpp) on the same pairs: spheres as
-// structure-of-arrays, pairs as index pairs, one call for all 10,000.
-void BM_SphereSphereArray_TumbleBatch(benchmark::State& state) {
-  Rng rng(5);
-  std::uniform_real_distribution<Real> u(0.5, 1.2);
+// The same pairs as structure-of-arrays (spheres 2i and 2i + 1 form pair i), for the batched
+// paths (collision/sphere_batch.hpp).
+struct SphereSoa {
   std::vector<Real> x, y, z, radius;
   std::vector<SpherePair> pairs;
+  SphereArrays arrays() const { return {x.data(), y.data(), z.data(), radius.data()}; }
+};
+
+SphereSoa sphere_pairs_soa() {
+  Rng rng(5);
+  std::uniform_real_distribution<Real> u(0.5, 1.2);
+  SphereSoa soa;
   for (int i = 0; i < kSpherePairs; ++i) {
     const Vec3 b = Vec3(i, 0, 0) + unit_vector(rng) * u(rng);
-    x.insert(x.end(), {Real(i), b.x()});
-    y.insert(y.end(), {Real(0), b.y()});
-    z.insert(z.end(), {Real(0), b.z()});
-    radius.insert(radius.end(), {Real(0.5), Real(0.5)});
-    pairs.push_back({2 * i, 2 * i + 1});
+    soa.x.insert(soa.x.end(), {Real(i), b.x()});
+    soa.y.insert(soa.y.end(), {Real(0), b.y()});
+    soa.z.insert(soa.z.end(), {Real(0), b.z()});
+    soa.radius.insert(soa.radius.end(), {Real(0.5), Real(0.5)});
+    soa.pairs.push_back({2 * i, 2 * i + 1});
   }
-  const SphereArrays spheres{x.data(), y.data(), z.data(), radius.data()};
-  std::vector<SphereContact> contacts(pairs.size());
+  return soa;
+}
+
+// Compact output: one SphereContact per touching pair.
+void BM_SphereSphereArray_TumbleBatch(benchmark::State& state) {
+  const SphereSoa soa = sphere_pairs_soa();
+  std::vector<SphereContact> contacts(soa.pairs.size());
   for (auto _ : state) {
-    const std::size_t written = collide_sphere_pairs(spheres, pairs, 0, contacts);
+    const std::size_t written = collide_sphere_pairs(soa.arrays(), soa.pairs, 0, contacts);
     benchmark::DoNotOptimize(written);
     benchmark::DoNotOptimize(contacts.data());
   }
   state.SetItemsProcessed(state.iterations() * kSpherePairs);
 }
 
-// The dense form on the same pairs: results for every pair as structure-of-arrays, no
-// compaction (the caller reads depth >= -margin).
+// Dense output: results for every pair as structure-of-arrays, no compaction (the caller reads
+// depth >= -margin).
 void BM_SphereSphereArray_TumbleDense(benchmark::State& state) {
-  Rng rng(5);
-  std::uniform_real_distribution<Real> u(0.5, 1.2);
-  std::vector<Real> x, y, z, radius;
-  std::vector<SpherePair> pairs;
-  for (int i = 0; i < kSpherePairs; ++i) {
-    const Vec3 b = Vec3(i, 0, 0) + unit_vector(rng) * u(rng);
-    x.insert(x.end(), {Real(i), b.x()});
-    y.insert(y.end(), {Real(0), b.y()});
-    z.insert(z.end(), {Real(0), b.z()});
-    radius.insert(radius.end(), {Real(0.5), Real(0.5)});
-    pairs.push_back({2 * i, 2 * i + 1});
-  }
-  const SphereArrays spheres{x.data(), y.data(), z.data(), radius.data()};
-  std::vector<Real> out(7 * pairs.size());
-  const std::size_t n = pairs.size();
+  const SphereSoa soa = sphere_pairs_soa();
+  const std::size_t n = soa.pairs.size();
+  std::vector<Real> out(7 * n);
   const SphereContactArrays results{out.data(),         out.data() + n,     out.data() + 2 * n,
                                     out.data() + 3 * n, out.data() + 4 * n, out.data() + 5 * n,
                                     out.data() + 6 * n};
   for (auto _ : state) {
-    const std::size_t touching = collide_sphere_pairs_dense(spheres, pairs, 0, results);
+    const std::size_t touching = collide_sphere_pairs_dense(soa.arrays(), soa.pairs, 0, results);
     benchmark::DoNotOptimize(touching);
     benchmark::DoNotOptimize(out.data());
   }
