@@ -96,6 +96,18 @@ int reduce_manifold(const Vec3& normal, std::span<const ContactPoint> candidates
   return kMaxManifoldPoints;
 }
 
+int write_reduced_manifold(const Vec3& normal, std::span<const ContactPoint> candidates,
+                           Manifold& out) {
+  out.normal = normal;
+  std::array<int, kMaxManifoldPoints> kept{};
+  const int kept_count = reduce_manifold(normal, candidates, kept);
+  for (int i = 0; i < kept_count; ++i) {
+    const ContactPoint& p = candidates[std::size_t(kept[std::size_t(i)])];
+    out.add(p.position, p.depth, p.feature);
+  }
+  return out.count;
+}
+
 int reduce_planar_manifold(std::span<const PlanarCandidate> candidates,
                            std::array<int, kMaxManifoldPoints>& kept) {
   // The steps and tie rules of reduce_manifold above, with areas and distances read directly in

@@ -19,6 +19,11 @@ namespace tumble {
 int reduce_manifold(const Vec3& normal, std::span<const ContactPoint> candidates,
                     std::array<int, kMaxManifoldPoints>& kept);
 
+// Sets out.normal and adds the points reduce_manifold keeps, the deepest first; returns
+// out.count.
+int write_reduced_manifold(const Vec3& normal, std::span<const ContactPoint> candidates,
+                           Manifold& out);
+
 // A candidate already in the contact plane: coordinates (u, v) on two orthonormal directions
 // perpendicular to the normal, and its depth.
 struct PlanarCandidate {

@@ -263,17 +263,6 @@ int clip_features(const FeaturePolygon& reference, const FeaturePolygon& inciden
   return kept;
 }
 
-int write_reduced(const Vec3& normal, std::span<const ContactPoint> candidates, Manifold& out) {
-  out.normal = normal;
-  std::array<int, kMaxManifoldPoints> kept{};
-  const int kept_count = reduce_manifold(normal, candidates, kept);
-  for (int i = 0; i < kept_count; ++i) {
-    const ContactPoint& p = candidates[std::size_t(kept[std::size_t(i)])];
-    out.add(p.position, p.depth, p.feature);
-  }
-  return out.count;
-}
-
 }  // namespace
 
 int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
@@ -331,7 +320,8 @@ int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const
       for (int k = 0; k < clipped_count && count < kMaxClipPoints; ++k)
         candidates[std::size_t(count++)] = clipped[std::size_t(k)];
       if (count > 1 && depth >= -margin) {
-        return write_reduced(normal, std::span(candidates.data(), std::size_t(count)), out);
+        return write_reduced_manifold(normal, std::span(candidates.data(), std::size_t(count)),
+                                      out);
       }
     }
   }
@@ -431,7 +421,7 @@ int cylinder_plane(const Shape& a, const Transform& pose_a, const Shape& /*plane
                                           {cylinder_rim(cap, k * 4), feature::kPlane}};
     }
   }
-  return write_reduced(normal, std::span(candidates.data(), std::size_t(count)), out);
+  return write_reduced_manifold(normal, std::span(candidates.data(), std::size_t(count)), out);
 }
 
 int hull_plane(const Shape& a, const Transform& pose_a, const Shape& /*plane*/,
@@ -467,7 +457,7 @@ int hull_plane(const Shape& a, const Transform& pose_a, const Shape& /*plane*/,
                                         depth,
                                         {std::uint16_t(v & 0x3fff), feature::kPlane}};
   }
-  return write_reduced(normal, std::span(candidates.data(), std::size_t(count)), out);
+  return write_reduced_manifold(normal, std::span(candidates.data(), std::size_t(count)), out);
 }
 
 }  // namespace tumble::detail

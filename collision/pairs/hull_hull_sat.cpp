@@ -340,17 +340,6 @@ struct PlacedHull {
   }
 };
 
-int write_reduced(const Vec3& normal, std::span<const ContactPoint> candidates, Manifold& out) {
-  out.normal = normal;
-  std::array<int, kMaxManifoldPoints> kept{};
-  const int kept_count = reduce_manifold(normal, candidates, kept);
-  for (int i = 0; i < kept_count; ++i) {
-    const ContactPoint& p = candidates[std::size_t(kept[std::size_t(i)])];
-    out.add(p.position, p.depth, p.feature);
-  }
-  return out.count;
-}
-
 // Face contact in A's frame; -1 when a face is too big for the fixed buffers.
 int face_contacts(const PlacedHull& reference, int reference_face, const PlacedHull& incident,
                   int support_vertex, bool reference_is_a, Real margin, Manifold& out) {
@@ -445,7 +434,7 @@ int face_contacts(const PlacedHull& reference, int reference_face, const PlacedH
     candidates[std::size_t(count++)] = {v.position - ref_normal * (separation * Real(0.5)),
                                         -separation, id};
   }
-  return write_reduced(normal, std::span(candidates.data(), std::size_t(count)), out);
+  return write_reduced_manifold(normal, std::span(candidates.data(), std::size_t(count)), out);
 }
 
 int edge_contact(const ConvexHull& a, const PlacedHull& b, const SatEdgeQuery& query, Real margin,
