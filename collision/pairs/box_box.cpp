@@ -86,9 +86,9 @@ struct Axis {
 // Sutherland-Hodgman on a quadrilateral against four planes adds at most one vertex per plane; the
 // slack covers rounding at grazing angles. The vertices live in one pool that only grows (the
 // incident corners, then every crossing a pass makes), and a pass turns one loop of pool indices
-// into the next: a vertex that stays costs one index, not a copy. A pass writes each index and each
-// crossing unconditionally and counts only those that stay (no branch on the geometry), so a loop
-// holds two entries per input vertex and the pool one spare slot.
+// into the next: a vertex that stays costs one index, not a copy. A pass writes each index
+// unconditionally and counts only those that stay (no branch on the geometry), so a loop holds two
+// entries per input vertex; a pass adds at most one crossing per input vertex to the pool.
 constexpr int kMaxClipVertices = 16;
 
 // Coordinates in the reference face's frame: u and v along the reference box's axes (axis + 1) % 3
@@ -96,7 +96,7 @@ constexpr int kMaxClipVertices = 16;
 // 1: -u <= half_u) or v (s = 2, 3). Fields are separate arrays, so that every value is read with
 // the width it was written with (store-to-load forwarding).
 struct ClipVertices {
-  static constexpr int kCapacity = 4 + 4 * kMaxClipVertices + 1;
+  static constexpr int kCapacity = 4 + 4 * kMaxClipVertices;
   std::array<std::array<Real, kCapacity>, 3> coordinate;  // [u, v, h][vertex]
   std::array<std::uint16_t, kCapacity> incident_feature;
   std::array<std::uint16_t, kCapacity> reference_feature;
@@ -224,29 +224,47 @@ bool clip_against_side(ClipVertices& vertices, const ClipLoop& in, const Referen
   auto& coordinate = vertices.coordinate;
   const auto& across = coordinate[across_index];
   const int count_in = std::min(in.count, kMaxClipVertices);
+  // How far each vertex lies outside the side plane (inside when <= 0).
+  std::array<Real, kMaxClipVertices> distance;
   Real farthest_out = -std::numeric_limits<Real>::infinity();
-  for (int i = 0; i < count_in; ++i)
-    farthest_out = std::max(farthest_out, sign * across[in.vertex[i]]);
-  if (farthest_out - bound <= 0)
+  for (int i = 0; i < count_in; ++i) {
+    distance[i] = sign * across[in.vertex[i]] - bound;
+    farthest_out = std::max(farthest_out, distance[i]);
+  }
+  if (farthest_out <= 0)
     return false;
 
-  const std::uint16_t side_edge = reference.side_edge[side];
+  // The new loop: each vertex inside, and after it a new vertex where the edge to the next one
+  // crosses the plane. Only indices are written here; the crossings (two, for a convex polygon)
+  // are computed after the loop, so that the division and the interpolation run once per
+  // crossing rather than once per vertex.
+  const int first_new = vertices.count;
+  std::array<std::uint8_t, kMaxClipVertices> crossing_edge;
   int count = 0;
-  const Real first_distance = sign * across[in.vertex[0]] - bound;
-  Real distance_p = first_distance;
+  int crossing_count = 0;
   for (int i = 0; i < count_in; ++i) {
-    // Edge from p to q, the next vertex.
-    const bool q_is_first = i + 1 == count_in;
-    const int p = in.vertex[i];
-    const int q = in.vertex[q_is_first ? 0 : i + 1];
-    const Real distance_q = q_is_first ? first_distance : sign * across[q] - bound;
-    const bool p_inside = distance_p <= 0;
-    const bool crosses = p_inside != (distance_q <= 0);
-    out.vertex[count] = std::uint8_t(p);
+    const int next = i + 1 == count_in ? 0 : i + 1;
+    const bool p_inside = distance[i] <= 0;
+    const bool crosses = p_inside != (distance[next] <= 0);
+    out.vertex[count] = in.vertex[i];
     count += p_inside;
+    out.vertex[count] = std::uint8_t(first_new + crossing_count);
+    crossing_edge[crossing_count] = std::uint8_t(i);
+    count += crosses;
+    crossing_count += crosses;
+  }
+  out.count = count;
 
-    const int c = std::min(vertices.count, ClipVertices::kCapacity - 1);
-    const Real fraction = distance_p / (crosses ? distance_p - distance_q : Real(1));
+  const std::uint16_t side_edge = reference.side_edge[side];
+  for (int m = 0; m < crossing_count; ++m) {
+    // Edge from p to q, the next vertex.
+    const int i = crossing_edge[m];
+    const int next = i + 1 == count_in ? 0 : i + 1;
+    const int p = in.vertex[i];
+    const int q = in.vertex[next];
+    const int c = first_new + m;
+    const Real distance_p = distance[i];
+    const Real fraction = distance_p / (distance_p - distance[next]);
     for (int k = 0; k < 3; ++k)
       coordinate[k][c] = coordinate[k][p] + (coordinate[k][q] - coordinate[k][p]) * fraction;
     // An incident edge crossing a side of the reference face, or a stretch along an earlier side
@@ -260,13 +278,9 @@ bool clip_against_side(ClipVertices& vertices, const ClipLoop& in, const Referen
     vertices.outgoing_edge[c] = vertices.outgoing_edge[p];
     // Leaving the prism, the polygon now runs along this side plane to where it comes back in;
     // entering it, it continues along p's edge.
-    vertices.outgoing_side[c] = std::int8_t(p_inside ? side : p_side);
-    out.vertex[count] = std::uint8_t(c);
-    count += crosses;
-    vertices.count = c + crosses;
-    distance_p = distance_q;
+    vertices.outgoing_side[c] = std::int8_t(distance_p <= 0 ? side : p_side);
   }
-  out.count = count;
+  vertices.count = first_new + crossing_count;
   return true;
 }
 
@@ -510,11 +524,12 @@ struct EdgeAxisTerms {
   Real squared_length;  // |L|^2
 };
 
-EdgeAxisTerms edge_axis_terms(const PairInA& pair, int i, int j) {
-  const int i1 = (i + 1) % 3;
-  const int i2 = (i + 2) % 3;
-  const int j1 = (j + 1) % 3;
-  const int j2 = (j + 2) % 3;
+template <int i, int j>
+EdgeAxisTerms edge_axis_terms(const PairInA& pair) {
+  constexpr int i1 = (i + 1) % 3;
+  constexpr int i2 = (i + 2) % 3;
+  constexpr int j1 = (j + 1) % 3;
+  constexpr int j2 = (j + 2) % 3;
   const Mat3& r = pair.r;
   const Mat3& abs_r = pair.abs_r;
   const Real along = pair.t[i2] * r(i1, j) - pair.t[i1] * r(i2, j);
@@ -603,13 +618,10 @@ int box_box(const Shape& shape_a, const Transform& pose_a, const Shape& shape_b,
   const Vec3 face_a_separation = t.cwiseAbs() - ha - abs_r * hb;
   const Vec3 face_b_separation = t_in_b.cwiseAbs() - hb - abs_r.transpose() * ha;
   // Edge axes, lane 3 i + j for a_i x b_j.
-  std::array<EdgeAxisTerms, 9> edge_terms;
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i) {
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j)
-      edge_terms[3 * i + j] = edge_axis_terms(pair, i, j);
-  }
+  const std::array<EdgeAxisTerms, 9> edge_terms = {
+      edge_axis_terms<0, 0>(pair), edge_axis_terms<0, 1>(pair), edge_axis_terms<0, 2>(pair),
+      edge_axis_terms<1, 0>(pair), edge_axis_terms<1, 1>(pair), edge_axis_terms<1, 2>(pair),
+      edge_axis_terms<2, 0>(pair), edge_axis_terms<2, 1>(pair), edge_axis_terms<2, 2>(pair)};
   // The most separated face axis of each box, the first on ties.
   const auto best_face_of = [](const Vec3& separations, int& index) {
     index = separations[1] > separations[0] ? 1 : 0;
