@@ -219,6 +219,18 @@ ConvexHull ConvexHull::from_points(std::span<const Vec3> points) {
   for (const Vec3& v : hull.vertices_)
     hull.bounding_radius_ = std::max(hull.bounding_radius_, v.norm());
 
+  // Structure-of-arrays copy for the SIMD support scan, padded with vertex 0.
+  const int count = int(hull.vertices_.size());
+  if (count <= kHullScanLimit) {
+    const int padded = (count + kHullScanWidth - 1) / kHullScanWidth * kHullScanWidth;
+    hull.scan_padded_count_ = padded;
+    hull.scan_coordinates_.assign(std::size_t(3 * padded), 0);
+    for (int i = 0; i < padded; ++i)
+      for (int k = 0; k < 3; ++k)
+        hull.scan_coordinates_[std::size_t(k * padded + i)] =
+            hull.vertices_[std::size_t(i < count ? i : 0)][k];
+  }
+
   // Edges: each directed loop edge meets its reverse in the neighbouring face.
   std::map<std::pair<int, int>, int> directed_face;
   for (int f = 0; f < int(hull.faces_.size()); ++f) {

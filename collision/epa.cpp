@@ -31,6 +31,7 @@
 #include <cmath>
 
 #include "collision/gjk_internal.hpp"
+#include "collision/hull_support_scan.hpp"
 
 namespace tumble {
 
@@ -71,7 +72,6 @@ struct Face {
   std::array<int, 3> v;              // counter-clockwise seen from outside
   std::array<int, 3> adjacent;       // face across edge e = (v[e], v[e + 1])
   std::array<int, 3> adjacent_edge;  // that edge's index in the adjacent face
-  Vec3 normal;                       // unit and outward, or zero for a sliver
   bool live;
 };
 
@@ -85,12 +85,23 @@ int next3(int e) {
   return e == 2 ? 0 : e + 1;
 }
 
+static_assert(kEpaMaxFaces % kHullScanWidth == 0, "the closest-face scan reads whole blocks");
+
 struct Polytope {
   std::array<Vertex, kEpaMaxVertices> vertex;
   std::array<Face, kEpaMaxFaces> face;
-  // Distance of each face slot's plane from the origin; +inf for free slots and slivers, so the
-  // closest-face search is one scan over a packed array.
+  // The order of the face slots' planes by distance from the origin, as the signed square of
+  // the distance, offset |offset| / |normal|^2 (one division, no square root); +inf for free
+  // slots and slivers, so the closest-face search is one scan over a packed array.
   std::array<Real, kEpaMaxFaces> distance;
+  // Each slot's plane, n . x = offset. n is outward and not normalised (its length is twice
+  // the area), or zero for a sliver: visibility, the support direction and the closest-face
+  // order need no unit normal, so a new face costs no square root; unit_normal() and
+  // plane_distance() are taken for the one face each iteration works on.
+  std::array<Real, kEpaMaxFaces> normal_x;
+  std::array<Real, kEpaMaxFaces> normal_y;
+  std::array<Real, kEpaMaxFaces> normal_z;
+  std::array<Real, kEpaMaxFaces> offset;
   std::array<int, kEpaMaxFaces> free_slot;
   int vertex_count = 0;
   int face_end = 0;  // slots [0, face_end) have been used
@@ -104,26 +115,47 @@ struct Polytope {
       slot = free_slot[std::size_t(--free_count)];
     } else if (face_end < kEpaMaxFaces) {
       slot = face_end++;
+      // The closest-face scan reads whole blocks of kHullScanWidth slots: a slot that opens a
+      // block marks the rest of it free.
+      if (slot % kHullScanWidth == 0)
+        std::fill_n(distance.begin() + slot + 1, kHullScanWidth - 1, kInfinity);
     } else {
       return -1;
     }
     Face& f = face[std::size_t(slot)];
     f.v = {i, j, k};
     f.live = true;
+    // Written out in scalars: Eigen's two-lane SSE2 code for 3-vectors spends as many
+    // instructions on shuffles as on arithmetic, and this runs for every new face.
     const Vec3& a = vertex[std::size_t(i)].w;
-    Vec3 n = (vertex[std::size_t(j)].w - a).cross(vertex[std::size_t(k)].w - a);
-    const Real length = n.norm();
-    if (!(length > 0)) {
+    const Vec3& b = vertex[std::size_t(j)].w;
+    const Vec3& c = vertex[std::size_t(k)].w;
+    const Real ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();
+    const Real vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();
+    Real nx = uy * vz - uz * vy;
+    Real ny = uz * vx - ux * vz;
+    Real nz = ux * vy - uy * vx;
+    Real plane_offset = nx * a.x() + ny * a.y() + nz * a.z();
+    // Outward means the interior point is below the plane.
+    if (plane_offset < nx * interior.x() + ny * interior.y() + nz * interior.z()) {
+      nx = -nx;
+      ny = -ny;
+      nz = -nz;
+      plane_offset = -plane_offset;
+    }
+    const Real length2 = nx * nx + ny * ny + nz * nz;
+    const std::size_t at = std::size_t(slot);
+    if (!(length2 > 0) || !(length2 < kInfinity)) {
       // A sliver: it can never be the closest face, and it is never seen from outside.
-      f.normal = Vec3::Zero();
-      distance[std::size_t(slot)] = kInfinity;
+      normal_x[at] = normal_y[at] = normal_z[at] = offset[at] = 0;
+      distance[at] = kInfinity;
       return slot;
     }
-    n /= length;
-    if (n.dot(a - interior) < 0)
-      n = -n;
-    f.normal = n;
-    distance[std::size_t(slot)] = n.dot(a);
+    normal_x[at] = nx;
+    normal_y[at] = ny;
+    normal_z[at] = nz;
+    offset[at] = plane_offset;
+    distance[at] = plane_offset * std::abs(plane_offset) / length2;
     return slot;
   }
 
@@ -140,22 +172,31 @@ struct Polytope {
     face[std::size_t(g)].adjacent_edge[std::size_t(ge)] = e;
   }
 
-  // The live face with the smallest finite distance (lowest slot on ties), or -1.
+  // The live face with the smallest finite distance (lowest slot on ties), or -1. (A SIMD
+  // argmin was tried: its lane reduction's latency costs more than this loop, whose branch
+  // is predicted, as the minimum rarely changes along the scan.)
   int closest_face() const {
-    int closest = -1;
-    Real best = kInfinity;
-    for (int f = 0; f < face_end; ++f) {
-      if (distance[std::size_t(f)] < best) {
-        best = distance[std::size_t(f)];
-        closest = f;
-      }
-    }
-    return closest;
+    const int blocks = (face_end + kHullScanWidth - 1) / kHullScanWidth;
+    return first_smallest(distance.data(), blocks * kHullScanWidth);
   }
 
+  // Face f's outward normal as stored (not normalised).
+  Vec3 normal(int f) const {
+    const std::size_t at = std::size_t(f);
+    return {normal_x[at], normal_y[at], normal_z[at]};
+  }
+
+  Vec3 unit_normal(int f) const {
+    const Vec3 n = normal(f);
+    return n * (Real(1) / n.norm());
+  }
+
+  // Signed distance of face f's plane from the origin.
+  Real plane_distance(int f) const { return offset[std::size_t(f)] / normal(f).norm(); }
+
   bool sees(int f, const Vec3& w) const {
-    const Face& face_f = face[std::size_t(f)];
-    return face_f.normal.dot(w - vertex[std::size_t(face_f.v[0])].w) > 0;
+    const std::size_t at = std::size_t(f);
+    return normal_x[at] * w.x() + normal_y[at] * w.y() + normal_z[at] * w.z() > offset[at];
   }
 };
 
@@ -324,18 +365,55 @@ Real core_size(const ConvexSupport& s) {
 // Hill climbing on big hulls starts from the face's own support points: the new support point
 // is near them, as the face normal is near theirs. Of the three, the one farthest along the
 // normal on A (and against it on B) is the best start.
-void set_hints(detail::PairInA& pair, const Polytope& poly, const Face& face) {
+void set_hints(detail::PairInA& pair, const Polytope& poly, int closest) {
+  const Face& face = poly.face[std::size_t(closest)];
+  const Vec3 normal = poly.normal(closest);
   const Vertex* best_a = &poly.vertex[std::size_t(face.v[0])];
   const Vertex* best_b = best_a;
   for (int k = 1; k < 3; ++k) {
     const Vertex& p = poly.vertex[std::size_t(face.v[std::size_t(k)])];
-    if (p.a.dot(face.normal) > best_a->a.dot(face.normal))
+    if (p.a.dot(normal) > best_a->a.dot(normal))
       best_a = &p;
-    if (p.b.dot(face.normal) < best_b->b.dot(face.normal))
+    if (p.b.dot(normal) < best_b->b.dot(normal))
       best_b = &p;
   }
   pair.hint_a = best_a->index_a;
   pair.hint_b = best_b->index_b;
+}
+
+// A hull big enough to be climbed (ConvexHull::support_index): only those use the hints.
+bool climbs(const ConvexSupport& s) {
+  return s.shape != nullptr && s.shape->type == ShapeType::hull &&
+         int(s.shape->hull->vertices().size()) > kHullScanLimit;
+}
+
+// Room for a scanned hull's vertices placed in A's frame.
+using PlacedHull = std::array<Real, 3 * kHullScanLimit>;
+static_assert(kHullScanLimit % kHullScanWidth == 0, "a scanned hull's padding fits");
+
+// When A and B are both small hulls, places B's vertices in A's frame once (PairInA::b_placed),
+// so that each of EPA's support calls is the two scans and nothing else.
+void place_small_hull_b(detail::PairInA& pair, PlacedHull& storage) {
+  if (pair.a_scan.x == nullptr || pair.b_scan.x == nullptr)
+    return;
+  pair.b_scan = place_hull(pair.b_scan, pair.rotation_b, pair.translation_b, storage.data());
+  pair.b_placed = true;
+}
+
+// EPA's support call: with both hulls placed, the two scans in one call, written straight into
+// a polytope vertex; otherwise PairInA::support.
+Vertex support_vertex(detail::PairInA& pair, const Vec3& d) {
+  if (pair.b_placed) {
+    const SupportPair i = scan_support_pair(pair.a_scan, d, pair.b_scan, -d);
+    Vertex v;
+    v.a = detail::PairInA::scanned_vertex(pair.a_scan, i.a);
+    v.b = detail::PairInA::scanned_vertex(pair.b_scan, i.b);
+    v.w = v.a - v.b;
+    v.index_a = i.a;
+    v.index_b = i.b;
+    return v;
+  }
+  return to_vertex(pair.support(d));
 }
 
 // Cylinders: the only cores whose support map is curved (spheres and capsules are a point and a
@@ -353,7 +431,7 @@ struct UpperBound {
 };
 
 UpperBound support_bound(detail::PairInA& pair, const Vec3& normal) {
-  const Vertex w = to_vertex(pair.support(normal));
+  const Vertex w = support_vertex(pair, normal);
   return {w.w.dot(normal), normal, w};
 }
 
@@ -440,6 +518,9 @@ void refine_upper_bound(detail::PairInA& pair, UpperBound& best) {
 EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk_result,
               const EpaSettings& settings) {
   detail::PairInA pair(a, b);
+  PlacedHull placed_b;
+  place_small_hull_b(pair, placed_b);
+  const bool uses_hints = climbs(a) || climbs(b);
   EpaResult result;
   const Real radii = a.radius + b.radius;
   GjkSimplex start = gjk_result.simplex;
@@ -495,13 +576,17 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
     if (closest < 0)
       break;
     const Face& best = poly.face[std::size_t(closest)];
-    const Real best_distance = poly.distance[std::size_t(closest)];
-    set_hints(pair, poly, best);
-    const Vertex w = to_vertex(pair.support(best.normal));
-    const Real upper = w.w.dot(best.normal);
+    const Real best_distance = poly.plane_distance(closest);
+    if (uses_hints)
+      set_hints(pair, poly, closest);
+    // The support along the unnormalised normal (a support map does not depend on the length
+    // of its direction), so the scan need not wait for the normalisation.
+    const Vertex w = support_vertex(pair, poly.normal(closest));
+    const Vec3 unit = poly.unit_normal(closest);
+    const Real upper = w.w.dot(unit);
     if (upper < best_upper) {
       best_upper = upper;
-      best_upper_normal = best.normal;
+      best_upper_normal = unit;
       best_upper_vertex = w;
     }
     if (upper - best_distance <= tolerance) {
@@ -597,7 +682,7 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
   }
   if (answer_upper_bound ||
       (result.status != EpaStatus::converged && std::isfinite(best_upper) &&
-       (closest < 0 || best_upper - poly.distance[std::size_t(closest)] > tolerance))) {
+       (closest < 0 || best_upper - poly.plane_distance(closest) > tolerance))) {
     // Fallback for a polytope that has not closed in (curved shapes use up the iterations):
     // the best upper bound, which on a smooth surface is within O(angle^2) of the depth while
     // the face distance is only within O(angle). Its witnesses: the support point on A and
@@ -615,18 +700,19 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
   if (closest < 0)
     return degenerate(poly.vertex[0].a);
   const Face& face = poly.face[std::size_t(closest)];
-  const Real face_distance = poly.distance[std::size_t(closest)];
+  const Real face_distance = poly.plane_distance(closest);
   // The origin can sit a rounding error outside a touching polytope: depth is never negative.
   const Real core_depth = std::max(face_distance, Real(0));
   const Vertex& p0 = poly.vertex[std::size_t(face.v[0])];
   const Vertex& p1 = poly.vertex[std::size_t(face.v[1])];
   const Vertex& p2 = poly.vertex[std::size_t(face.v[2])];
-  const std::array<Real, 3> l = barycentric(face.normal * face_distance, p0.w, p1.w, p2.w);
+  const Vec3 unit = poly.unit_normal(closest);
+  const std::array<Real, 3> l = barycentric(unit * face_distance, p0.w, p1.w, p2.w);
   const Vec3 core_a = l[0] * p0.a + l[1] * p1.a + l[2] * p2.a;
   const Vec3 core_b = l[0] * p0.b + l[1] * p1.b + l[2] * p2.b;
   // The face normal n points from the origin out of A - B: moving A by -n separates, so the
   // normal from B to A is -n.
-  const Vec3 normal_in_a = -face.normal;
+  const Vec3 normal_in_a = -unit;
   result.depth = core_depth + radii;
   result.normal = a.pose.rotate(normal_in_a);
   result.point_a = a.pose.apply(core_a - normal_in_a * a.radius);

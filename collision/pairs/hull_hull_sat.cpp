@@ -104,7 +104,9 @@ Real face_separation(const ConvexHull& faces, int f, const ConvexHull& other,
                      const Transform& other_pose, int& start) {
   const HullFace& face = faces.faces()[std::size_t(f)];
   const Vec3 normal = other_pose.rotate_inverse(face.normal);  // other's frame
-  start = other.support_index(-normal, start);
+  // Climbed, not scanned: successive face normals are close, so from the last support the
+  // climb takes a step or two where a scan reads every vertex.
+  start = other.climb_support_index(-normal, start);
   return face.normal.dot(other_pose.apply(other.vertex(start))) - face.offset;
 }
 

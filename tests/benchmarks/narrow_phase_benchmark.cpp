@@ -140,18 +140,27 @@ void run_tumble_gjk(benchmark::State& state, const Shape& shape, Real reach, boo
                     Real low, Real high) {
   const auto p = poses(low, high, reach, 2);
   std::size_t i = 0;
+  std::int64_t gjk_iterations = 0;
+  std::int64_t epa_iterations = 0;
   for (auto _ : state) {
     const PosePair& q = p[i++ % p.size()];
     const ConvexSupport a = ConvexSupport::of(shape, q.a);
     const ConvexSupport b = ConvexSupport::of(shape, q.b);
     const GjkResult g = gjk(a, b);
+    gjk_iterations += g.iterations;
     if (with_epa && g.status == GjkStatus::intersecting) {
-      benchmark::DoNotOptimize(epa(a, b, g).depth);
+      const EpaResult e = epa(a, b, g);
+      epa_iterations += e.iterations;
+      benchmark::DoNotOptimize(e.depth);
     } else {
       benchmark::DoNotOptimize(g.distance);
     }
   }
   state.SetItemsProcessed(state.iterations());
+  // Mean iterations per query, to read the time per iteration off.
+  state.counters["gjk_iterations"] = Real(gjk_iterations) / Real(state.iterations());
+  if (with_epa)
+    state.counters["epa_iterations"] = Real(epa_iterations) / Real(state.iterations());
 }
 
 void run_bullet_gjk(benchmark::State& state, const btConvexShape& shape, Real reach, Real low,
