@@ -81,6 +81,8 @@ class ConvexHull {
   // The vertices as padded structure-of-arrays blocks (hull_support_scan.hpp); empty above
   // kHullScanLimit vertices.
   HullScanArrays scan_arrays() const {
+    if (scan_padded_count_ == 0)
+      return {};  // (an empty vector's data() need not be null)
     const Real* x = scan_coordinates_.data();
     const int m = scan_padded_count_;
     return {x, x + m, x + 2 * m, m};

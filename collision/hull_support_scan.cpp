@@ -37,25 +37,61 @@ __attribute__((target("avx512f"), always_inline)) inline void keep_better8(__m51
   index = _mm512_mask_blend_pd(take, index, other_index);
 }
 
-// One block of eight vertices into one accumulator.
-__attribute__((target("avx512f"), always_inline)) inline void block8(const HullScanArrays& h, int i,
-                                                                     __m512d dx, __m512d dy,
-                                                                     __m512d dz, __m512d index,
-                                                                     __m512d& best,
-                                                                     __m512d& best_index) {
-  const __m512d xy = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(h.x + i), dx),
-                                   _mm512_mul_pd(_mm512_loadu_pd(h.y + i), dy));
-  const __m512d value = _mm512_add_pd(xy, _mm512_mul_pd(_mm512_loadu_pd(h.z + i), dz));
+// The values of eight (four) consecutive entries: v . d of vertices, or the negated entries of
+// an array (so that the first smallest entry is the first largest value).
+struct DotValues {
+  const HullScanArrays& h;
+  const Vec3& d;
+  __attribute__((target("avx512f"), always_inline)) __m512d at8(int i, __m512d dx, __m512d dy,
+                                                                __m512d dz) const {
+    const __m512d xy = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(h.x + i), dx),
+                                     _mm512_mul_pd(_mm512_loadu_pd(h.y + i), dy));
+    return _mm512_add_pd(xy, _mm512_mul_pd(_mm512_loadu_pd(h.z + i), dz));
+  }
+  __attribute__((target("avx2"), always_inline)) __m256d at4(int i, __m256d dx, __m256d dy,
+                                                             __m256d dz) const {
+    const __m256d xy = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(h.x + i), dx),
+                                     _mm256_mul_pd(_mm256_loadu_pd(h.y + i), dy));
+    return _mm256_add_pd(xy, _mm256_mul_pd(_mm256_loadu_pd(h.z + i), dz));
+  }
+  Vec3 direction() const { return d; }
+  int count() const { return h.padded_count; }
+};
+
+struct NegatedValues {
+  const Real* values;
+  int padded_count;
+  __attribute__((target("avx512f"), always_inline)) __m512d at8(int i, __m512d, __m512d,
+                                                                __m512d) const {
+    return _mm512_sub_pd(_mm512_setzero_pd(), _mm512_loadu_pd(values + i));
+  }
+  __attribute__((target("avx2"), always_inline)) __m256d at4(int i, __m256d, __m256d,
+                                                             __m256d) const {
+    return _mm256_sub_pd(_mm256_setzero_pd(), _mm256_loadu_pd(values + i));
+  }
+  Vec3 direction() const { return Vec3::Zero(); }
+  int count() const { return padded_count; }
+};
+
+// One block of eight values into one accumulator.
+__attribute__((target("avx512f"), always_inline)) inline void keep_higher8(__m512d value,
+                                                                           __m512d index,
+                                                                           __m512d& best,
+                                                                           __m512d& best_index) {
   const __mmask8 higher = _mm512_cmp_pd_mask(value, best, _CMP_GT_OQ);
   best = _mm512_mask_blend_pd(higher, best, value);
   best_index = _mm512_mask_blend_pd(higher, best_index, index);
 }
 
-__attribute__((target("avx512f"), always_inline)) inline int scan8(const HullScanArrays& h,
-                                                                   const Vec3& d) {
+// The first index of the largest value, and that value in `largest`.
+template <class Values>
+__attribute__((target("avx512f"), always_inline)) inline int first_largest8(const Values& values,
+                                                                            Real& largest) {
+  const Vec3 d = values.direction();
   const __m512d dx = _mm512_set1_pd(d.x());
   const __m512d dy = _mm512_set1_pd(d.y());
   const __m512d dz = _mm512_set1_pd(d.z());
+  const int count = values.count();
   __m512d best0 = _mm512_set1_pd(kLowest);
   __m512d best1 = best0;
   __m512d best_index0 = _mm512_setzero_pd();
@@ -63,14 +99,14 @@ __attribute__((target("avx512f"), always_inline)) inline int scan8(const HullSca
   __m512d index = _mm512_set_pd(7, 6, 5, 4, 3, 2, 1, 0);
   const __m512d step = _mm512_set1_pd(8);
   int i = 0;
-  for (; i + 16 <= h.padded_count; i += 16) {
-    block8(h, i, dx, dy, dz, index, best0, best_index0);
+  for (; i + 16 <= count; i += 16) {
+    keep_higher8(values.at8(i, dx, dy, dz), index, best0, best_index0);
     index = _mm512_add_pd(index, step);
-    block8(h, i + 8, dx, dy, dz, index, best1, best_index1);
+    keep_higher8(values.at8(i + 8, dx, dy, dz), index, best1, best_index1);
     index = _mm512_add_pd(index, step);
   }
-  if (i < h.padded_count)
-    block8(h, i, dx, dy, dz, index, best0, best_index0);
+  if (i < count)
+    keep_higher8(values.at8(i, dx, dy, dz), index, best0, best_index0);
   __m512d value = best0;
   __m512d at = best_index0;
   keep_better8(value, at, best1, best_index1);
@@ -79,6 +115,7 @@ __attribute__((target("avx512f"), always_inline)) inline int scan8(const HullSca
   keep_better8(value, at, _mm512_shuffle_f64x2(value, value, 0xB1),
                _mm512_shuffle_f64x2(at, at, 0xB1));
   keep_better8(value, at, _mm512_permute_pd(value, 0x55), _mm512_permute_pd(at, 0x55));
+  largest = _mm512_cvtsd_f64(value);
   return int(_mm512_cvtsd_f64(at));
 }
 
@@ -93,8 +130,10 @@ __attribute__((target("avx2"), always_inline)) inline void keep_better4(__m256d&
   index = _mm256_blendv_pd(index, other_index, take);
 }
 
-__attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanArrays& h,
-                                                                const Vec3& d) {
+template <class Values>
+__attribute__((target("avx2"), always_inline)) inline int first_largest4(const Values& values,
+                                                                         Real& largest) {
+  const Vec3 d = values.direction();
   const __m256d dx = _mm256_set1_pd(d.x());
   const __m256d dy = _mm256_set1_pd(d.y());
   const __m256d dz = _mm256_set1_pd(d.z());
@@ -103,12 +142,9 @@ __attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanAr
   __m256d best_index[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
   __m256d index[2] = {_mm256_set_pd(3, 2, 1, 0), _mm256_set_pd(7, 6, 5, 4)};
   const __m256d step = _mm256_set1_pd(8);
-  for (int i = 0; i < h.padded_count; i += 8) {
+  for (int i = 0; i < values.count(); i += 8) {
     for (int half = 0; half < 2; ++half) {
-      const int k = i + 4 * half;
-      const __m256d xy = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(h.x + k), dx),
-                                       _mm256_mul_pd(_mm256_loadu_pd(h.y + k), dy));
-      const __m256d value = _mm256_add_pd(xy, _mm256_mul_pd(_mm256_loadu_pd(h.z + k), dz));
+      const __m256d value = values.at4(i + 4 * half, dx, dy, dz);
       const __m256d higher = _mm256_cmp_pd(value, best[half], _CMP_GT_OQ);
       best[half] = _mm256_blendv_pd(best[half], value, higher);
       best_index[half] = _mm256_blendv_pd(best_index[half], index[half], higher);
@@ -121,7 +157,36 @@ __attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanAr
   keep_better4(value, at, _mm256_permute2f128_pd(value, value, 0x01),
                _mm256_permute2f128_pd(at, at, 0x01));
   keep_better4(value, at, _mm256_permute_pd(value, 0x5), _mm256_permute_pd(at, 0x5));
+  largest = _mm256_cvtsd_f64(value);
   return int(_mm256_cvtsd_f64(at));
+}
+
+__attribute__((target("avx512f"), always_inline)) inline int scan8(const HullScanArrays& h,
+                                                                   const Vec3& d) {
+  Real largest;
+  return first_largest8(DotValues{h, d}, largest);
+}
+
+__attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanArrays& h,
+                                                                const Vec3& d) {
+  Real largest;
+  return first_largest4(DotValues{h, d}, largest);
+}
+
+// The first smallest entry is the first largest negated one; +inf (a free slot) becomes -inf,
+// which is never "greater", and -0 and +0 both become +0 and tie, as they compare equal.
+__attribute__((target("avx512f"), always_inline)) inline int smallest8(const Real* values,
+                                                                       int padded_count) {
+  Real largest;
+  const int at = first_largest8(NegatedValues{values, padded_count}, largest);
+  return largest > kLowest ? at : -1;
+}
+
+__attribute__((target("avx2"), always_inline)) inline int smallest4(const Real* values,
+                                                                    int padded_count) {
+  Real largest;
+  const int at = first_largest4(NegatedValues{values, padded_count}, largest);
+  return largest > kLowest ? at : -1;
 }
 
 // One scan, and two in one body: GJK and EPA need the support points of A and B together,
@@ -139,74 +204,6 @@ __attribute__((target("avx2"))) int scan(const HullScanArrays& h, const Vec3& d)
 __attribute__((target("avx2"))) SupportPair scan_pair(const HullScanArrays& a, const Vec3& da,
                                                       const HullScanArrays& b, const Vec3& db) {
   return {scan4(a, da), scan4(b, db)};
-}
-
-__attribute__((target("avx512f"), always_inline)) inline int smallest8(const Real* values,
-                                                                       int padded_count) {
-  __m512d best0 = _mm512_set1_pd(kHighest);
-  __m512d best1 = best0;
-  __m512d best_index0 = _mm512_setzero_pd();
-  __m512d best_index1 = best_index0;
-  __m512d index = _mm512_set_pd(7, 6, 5, 4, 3, 2, 1, 0);
-  const __m512d step = _mm512_set1_pd(8);
-  int i = 0;
-  for (; i + 16 <= padded_count; i += 16) {
-    const __m512d v0 = _mm512_loadu_pd(values + i);
-    const __mmask8 lower0 = _mm512_cmp_pd_mask(v0, best0, _CMP_LT_OQ);
-    best0 = _mm512_mask_blend_pd(lower0, best0, v0);
-    best_index0 = _mm512_mask_blend_pd(lower0, best_index0, index);
-    index = _mm512_add_pd(index, step);
-    const __m512d v1 = _mm512_loadu_pd(values + i + 8);
-    const __mmask8 lower1 = _mm512_cmp_pd_mask(v1, best1, _CMP_LT_OQ);
-    best1 = _mm512_mask_blend_pd(lower1, best1, v1);
-    best_index1 = _mm512_mask_blend_pd(lower1, best_index1, index);
-    index = _mm512_add_pd(index, step);
-  }
-  if (i < padded_count) {
-    const __m512d v0 = _mm512_loadu_pd(values + i);
-    const __mmask8 lower0 = _mm512_cmp_pd_mask(v0, best0, _CMP_LT_OQ);
-    best0 = _mm512_mask_blend_pd(lower0, best0, v0);
-    best_index0 = _mm512_mask_blend_pd(lower0, best_index0, index);
-  }
-  // The smallest value, and the smallest index on a tie: keep_better8 on negated values.
-  __m512d value = _mm512_sub_pd(_mm512_setzero_pd(), best0);
-  __m512d at = best_index0;
-  const __m512d other = _mm512_sub_pd(_mm512_setzero_pd(), best1);
-  keep_better8(value, at, other, best_index1);
-  keep_better8(value, at, _mm512_shuffle_f64x2(value, value, 0x4E),
-               _mm512_shuffle_f64x2(at, at, 0x4E));
-  keep_better8(value, at, _mm512_shuffle_f64x2(value, value, 0xB1),
-               _mm512_shuffle_f64x2(at, at, 0xB1));
-  keep_better8(value, at, _mm512_permute_pd(value, 0x55), _mm512_permute_pd(at, 0x55));
-  if (!(_mm512_cvtsd_f64(value) > kLowest))
-    return -1;
-  return int(_mm512_cvtsd_f64(at));
-}
-
-__attribute__((target("avx2"), always_inline)) inline int smallest4(const Real* values,
-                                                                    int padded_count) {
-  __m256d best[2] = {_mm256_set1_pd(kHighest), _mm256_set1_pd(kHighest)};
-  __m256d best_index[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
-  __m256d index[2] = {_mm256_set_pd(3, 2, 1, 0), _mm256_set_pd(7, 6, 5, 4)};
-  const __m256d step = _mm256_set1_pd(8);
-  for (int i = 0; i < padded_count; i += 8) {
-    for (int half = 0; half < 2; ++half) {
-      const __m256d v = _mm256_loadu_pd(values + i + 4 * half);
-      const __m256d lower = _mm256_cmp_pd(v, best[half], _CMP_LT_OQ);
-      best[half] = _mm256_blendv_pd(best[half], v, lower);
-      best_index[half] = _mm256_blendv_pd(best_index[half], index[half], lower);
-      index[half] = _mm256_add_pd(index[half], step);
-    }
-  }
-  __m256d value = _mm256_sub_pd(_mm256_setzero_pd(), best[0]);
-  __m256d at = best_index[0];
-  keep_better4(value, at, _mm256_sub_pd(_mm256_setzero_pd(), best[1]), best_index[1]);
-  keep_better4(value, at, _mm256_permute2f128_pd(value, value, 0x01),
-               _mm256_permute2f128_pd(at, at, 0x01));
-  keep_better4(value, at, _mm256_permute_pd(value, 0x5), _mm256_permute_pd(at, 0x5));
-  if (!(_mm256_cvtsd_f64(value) > kLowest))
-    return -1;
-  return int(_mm256_cvtsd_f64(at));
 }
 
 __attribute__((target("avx512f"))) int smallest(const Real* values, int padded_count) {

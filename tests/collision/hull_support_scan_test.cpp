@@ -5,6 +5,7 @@
 // kHullScanLimit vertices) against the brute-force maximum.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -204,6 +205,25 @@ TEST(HullSupportScan, SmallHullsSupportIndexIsTheExactMaximum) {
       const Vec3 d = random_unit_vector(rng);
       EXPECT_EQ(hull.support_index(d, k % int(vertices.size())), first_largest(vertices, d));
     }
+  }
+}
+
+TEST(HullSupportScan, BigHullsHaveNoScanArraysAndClimb) {
+  Rng rng(9006);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 300; ++i)
+    points.push_back(random_unit_vector(rng));
+  const ConvexHull hull = ConvexHull::from_points(points);
+  ASSERT_GT(int(hull.vertices().size()), kHullScanLimit);
+  EXPECT_EQ(hull.scan_arrays().x, nullptr);
+  EXPECT_EQ(hull.scan_arrays().padded_count, 0);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 d = random_unit_vector(rng);
+    Real best = -kInf;
+    for (const Vec3& v : hull.vertices())
+      best = std::max(best, v.dot(d));
+    // The climb's answer is a vertex of largest value (ties may pick another index).
+    EXPECT_NEAR(hull.vertex(hull.support_index(d, k % 50)).dot(d), best, 1e-15);
   }
 }
 
