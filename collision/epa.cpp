@@ -125,8 +125,8 @@ struct Polytope {
     Face& f = face[std::size_t(slot)];
     f.v = {i, j, k};
     f.live = true;
-    // Written out in scalars: Eigen's two-lane SSE2 code for 3-vectors spends as many
-    // instructions on shuffles as on arithmetic, and this runs for every new face.
+    // Written out in scalars (fewer instructions than Eigen's two-lane code for 3-vectors, which
+    // shuffles), as this runs for every new face.
     const Vec3& a = vertex[std::size_t(i)].w;
     const Vec3& b = vertex[std::size_t(j)].w;
     const Vec3& c = vertex[std::size_t(k)].w;
@@ -172,9 +172,8 @@ struct Polytope {
     face[std::size_t(g)].adjacent_edge[std::size_t(ge)] = e;
   }
 
-  // The live face with the smallest finite distance (lowest slot on ties), or -1. (A SIMD
-  // argmin was tried: its lane reduction's latency costs more than this loop, whose branch
-  // is predicted, as the minimum rarely changes along the scan.)
+  // The live face with the smallest finite distance (lowest slot on ties), or -1: a SIMD argmin
+  // (hull_support_scan.hpp) over whole blocks, whose slots past face_end are marked free.
   int closest_face() const {
     const int blocks = (face_end + kHullScanWidth - 1) / kHullScanWidth;
     return first_smallest(distance.data(), blocks * kHullScanWidth);
