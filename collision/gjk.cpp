@@ -12,10 +12,29 @@
 // brings no more than the relative tolerance), (2) w is already in the simplex, (3) ||v|| no
 // longer decreases (oscillation from rounding), (4) the simplex is a tetrahedron holding the
 // origin or ||v|| is below the touching tolerance (intersecting), (5) the iteration cap.
+//
+// Stalls: (2) and (3) can stop the loop far from convergence when a curved shape nearly touches
+// a face (a cylinder's rim over a triangle or a box). The supports along successive directions
+// then pair a rim point that still moves with the same corner of the face, so the simplex keeps
+// vertices whose rim points came from earlier, less accurate directions; the closest point
+// stops decreasing while ||v|| is still many times the distance (measured: 2.4e-9 m for a true
+// 9.5e-10 m, up to 1e-7 of the shapes' size over 20,000 such poses). A stop with the gap
+// ||v||^2 - v.w above kStallGap ||v||^2 is therefore taken as a stall, and two remedies are
+// tried before giving up:
+//   - refresh: the simplex's points on A (or on B) are replaced by those of the new support w,
+//     all of them or only those near w's (a cylinder lying on a face has its two rim ends in the
+//     simplex, and only one is stale); each vertex stays a point of A - B, so ||v|| stays an
+//     upper bound, and the closest of the four refreshed simplices is adopted if it is closer;
+//   - restart (once, and only when the gap is above its own rounding): the search goes on from
+//     w alone, so that the new simplex is built of supports near the final direction; the better
+//     of the two answers is kept.
+// With both, the same 20,000 poses end within 1e-10 of the size, except a cylinder lying
+// exactly on a face (its caps tie along the normal), within 6e-9 (tests/collision/gjk_epa_test).
 #include "collision/gjk.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "collision/gjk_internal.hpp"
 
@@ -62,6 +81,16 @@ namespace {
 
 // Relative size below which an edge, triangle or tetrahedron counts as degenerate.
 constexpr Real kDegenerate = Real(1e-14);
+// A stop by (2) or (3) with the gap ||v||^2 - v.w above this fraction of ||v||^2 (the lower
+// bound more than 1e-6 of the distance short of ||v||) is a stall (see the file comment).
+constexpr Real kStallGap = Real(1e-6);
+// The gap's rounding: v carries an absolute error of a few ulps of the simplex's points, so
+// v.w does of a few ulps of |w|^2. A restart is tried only for a gap above this fraction of
+// the largest |w|^2 seen, where the lower bound is not just rounding.
+constexpr Real kGapRounding = Real(1e-13);
+// A refresh that replaces only nearby points takes those within this fraction of the largest
+// |w| of the new support's.
+constexpr Real kRefreshReach = Real(1e-2);
 
 // A sub-simplex holding the point closest to the origin: the indices of its vertices in the
 // simplex (ascending), their barycentric weights and the point's squared distance.
@@ -158,8 +187,10 @@ Candidate triangle_candidate(const GjkSimplex& s, int i, int j, int k) {
   return out;
 }
 
-// The point of the candidate, summed in the order the simplex will hold its vertices.
-Vec3 candidate_point(const GjkSimplex& s, const Candidate& c) {
+// The point of the candidate, summed in the order the simplex will hold its vertices. (Always
+// inlined, as closest_sub_simplex is: the stall recovery calls them too, and GCC then stopped
+// inlining them into the main loop.)
+[[gnu::always_inline]] inline Vec3 candidate_point(const GjkSimplex& s, const Candidate& c) {
   Vec3 v = Vec3::Zero();
   for (int n = 0; n < c.count; ++n)
     v += c.weight[std::size_t(n)] * s.vertex[std::size_t(c.index[std::size_t(n)])].w;
@@ -181,7 +212,8 @@ void apply(GjkSimplex& s, std::array<Real, 4>& lambda, const Candidate& c) {
 // The smallest sub-simplex of s holding the point closest to the origin. Returns false when
 // the origin is inside s, a (non-degenerate) tetrahedron; `inside_weights` then receives the
 // origin's barycentric weights (for the witness points).
-bool closest_sub_simplex(const GjkSimplex& s, Candidate& out, std::array<Real, 4>& inside_weights) {
+[[gnu::always_inline]] inline bool closest_sub_simplex(const GjkSimplex& s, Candidate& out,
+                                                       std::array<Real, 4>& inside_weights) {
   switch (s.count) {
     case 1:
       out = vertex_region(0, s.vertex[0].w);
@@ -239,6 +271,101 @@ bool finite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
+// The answer the search had when it restarted, if it did. The answer is a union member, set only
+// by a restart: as a std::optional, GCC cleared its 400 bytes on every query (rep stos), which cost
+// separated boxes 6%.
+struct StalledAnswer {
+  struct Answer {
+    GjkSimplex simplex;
+    std::array<Real, 4> lambda;
+    Vec3 v;
+    Real vv;
+  };
+  bool restarted = false;
+  union {
+    Answer answer;
+  };
+  StalledAnswer() {}
+  void save(const GjkSimplex& simplex, const std::array<Real, 4>& lambda, const Vec3& v, Real vv) {
+    std::construct_at(&answer, Answer{simplex, lambda, v, vv});
+    restarted = true;
+  }
+};
+
+// Refresh (see the file comment): every vertex's point on A, or on B, or only those near w's,
+// replaced by w's. Adopts the closest of these four simplices into (s, lambda, v, vv) and returns
+// true when it is closer than the current one.
+bool refresh(const SimplexVertex& w, Real max_w2, GjkSimplex& s, std::array<Real, 4>& lambda,
+             Vec3& v, Real& vv) {
+  GjkSimplex best_simplex;
+  Candidate best_candidate;
+  Vec3 best_point = v;
+  Real best_vv = vv;
+  const Real reach2 = kRefreshReach * kRefreshReach * max_w2;
+  for (int variant = 0; variant < 4; ++variant) {
+    const bool on_a = variant % 2 == 0;
+    const bool near_only = variant >= 2;
+    GjkSimplex t = s;
+    for (int i = 0; i < t.count; ++i) {
+      SimplexVertex& u = t.vertex[std::size_t(i)];
+      if (on_a && (!near_only || (u.a - w.a).squaredNorm() <= reach2)) {
+        u.a = w.a;
+        u.index_a = w.index_a;
+      } else if (!on_a && (!near_only || (u.b - w.b).squaredNorm() <= reach2)) {
+        u.b = w.b;
+        u.index_b = w.index_b;
+      }
+      u.w = u.a - u.b;
+    }
+    Candidate candidate;
+    std::array<Real, 4> unused{};
+    if (!closest_sub_simplex(t, candidate, unused))
+      continue;  // not reached: a stalled simplex has at most three vertices
+    const Vec3 point = candidate_point(t, candidate);
+    if (point.squaredNorm() < best_vv) {
+      best_vv = point.squaredNorm();
+      best_point = point;
+      best_simplex = t;
+      best_candidate = candidate;
+    }
+  }
+  if (!(best_vv < vv))
+    return false;
+  s = best_simplex;
+  apply(s, lambda, best_candidate);
+  v = best_point;
+  vv = best_vv;
+  return true;
+}
+
+// Where the search goes on from after a stall: the closest point, its squared norm and its
+// barycentric weights.
+struct Resume {
+  bool go_on = false;
+  Vec3 v = Vec3::Zero();
+  Real vv = 0;
+  std::array<Real, 4> lambda{};
+};
+
+// After a stop by (2) or (3) at support w with the gap above kStallGap ||v||^2: a refresh, or else
+// a restart (once, and only when the gap is above its rounding) from w alone, saving the answer in
+// `stalled`. Out of line, with v, vv and lambda in and out by value, so that the main loop's code
+// is what it was without the recovery (separated boxes measure the same, 196-201 ns against
+// 196-198).
+[[gnu::noinline]] Resume recover_from_stall(const SimplexVertex w, Real max_w2, GjkSimplex& s,
+                                            std::array<Real, 4> lambda, Vec3 v, Real vv,
+                                            StalledAnswer& stalled) {
+  if (refresh(w, max_w2, s, lambda, v, vv))
+    return {true, v, vv, lambda};
+  const Real gap = vv - v.dot(w.w);
+  if (stalled.restarted || !(gap > kStallGap * vv + kGapRounding * max_w2))
+    return {};
+  stalled.save(s, lambda, v, vv);
+  s.vertex[0] = w;
+  s.count = 1;
+  return {true, w.w, w.w.squaredNorm(), {1, 0, 0, 0}};
+}
+
 }  // namespace
 
 GjkResult gjk(const ConvexSupport& a, const ConvexSupport& b, GjkCache* cache,
@@ -265,56 +392,101 @@ GjkResult gjk(const ConvexSupport& a, const ConvexSupport& b, GjkCache* cache,
   const Real touch2 = settings.touching_tolerance * settings.touching_tolerance;
   GjkStatus status = GjkStatus::max_iterations;
   int iteration = 0;
-  for (; iteration < settings.max_iterations; ++iteration) {
-    if (vv <= touch2 * max_w2) {
-      status = GjkStatus::intersecting;
-      break;
+  // The answer before a restart (see the file comment).
+  StalledAnswer stalled;
+  // After a stop by (2) or (3): whether the search goes on (see the file comment). The cheap test
+  // first, so that a search that converged does not call out of line.
+  const auto recover = [&](const SimplexVertex& w) {
+    if (!(vv - v.dot(w.w) > kStallGap * vv))
+      return false;
+    const Resume resume = recover_from_stall(w, max_w2, s, lambda, v, vv, stalled);
+    if (resume.go_on) {
+      v = resume.v;
+      vv = resume.vv;
+      lambda = resume.lambda;
     }
-    const SimplexVertex w = pair.support(-v);
-    if (!finite(w.w)) {
-      status = GjkStatus::degenerate;
-      break;
+    return resume.go_on;
+  };
+  // The loop runs again after a recovered stall. Stops by (2) and (3) leave it with the support
+  // they stopped at, so that the recovery stays out of the loop's body.
+  for (;;) {
+    // 2 or 3, the test that stopped the loop short; the support it stopped at is left in the slot
+    // after the simplex.
+    int stopped_by = 0;
+    for (; iteration < settings.max_iterations; ++iteration) {
+      if (vv <= touch2 * max_w2) {
+        status = GjkStatus::intersecting;
+        break;
+      }
+      const SimplexVertex w = pair.support(-v);
+      if (!finite(w.w)) {
+        status = GjkStatus::degenerate;
+        break;
+      }
+      // (1) no more than the relative tolerance to gain: converged.
+      if (vv - v.dot(w.w) <= rel2 * vv) {
+        status = GjkStatus::separated;
+        break;
+      }
+      // (2) w already in the simplex: no progress is possible.
+      bool repeated = false;
+      for (int i = 0; i < s.count; ++i)
+        repeated = repeated || s.vertex[std::size_t(i)].w == w.w;
+      if (repeated) {
+        status = GjkStatus::separated;
+        stopped_by = 2;
+        s.vertex[std::size_t(s.count)] = w;
+        break;
+      }
+      // w goes into the slot after the simplex; the simplex takes it only once the new closest
+      // point is known to be closer, so an oscillation leaves the previous simplex as it was.
+      s.vertex[std::size_t(s.count)] = w;
+      ++s.count;
+      max_w2 = std::max(max_w2, w.w.squaredNorm());
+      Candidate candidate;
+      if (!closest_sub_simplex(s, candidate, lambda)) {
+        status = GjkStatus::intersecting;
+        v = Vec3::Zero();
+        vv = 0;
+        ++iteration;
+        break;
+      }
+      const Vec3 next = candidate_point(s, candidate);
+      const Real next_vv = next.squaredNorm();
+      // (3) oscillation: rounding stopped the strict decrease; keep the previous simplex.
+      if (!(next_vv < vv)) {
+        --s.count;
+        status = GjkStatus::separated;
+        stopped_by = 3;
+        break;
+      }
+      apply(s, lambda, candidate);
+      v = next;
+      vv = next_vv;
     }
-    // (1) no more than the relative tolerance to gain: converged.
-    if (vv - v.dot(w.w) <= rel2 * vv) {
-      status = GjkStatus::separated;
-      break;
-    }
-    // (2) w already in the simplex: no progress is possible.
-    bool repeated = false;
-    for (int i = 0; i < s.count; ++i)
-      repeated = repeated || s.vertex[std::size_t(i)].w == w.w;
-    if (repeated) {
-      status = GjkStatus::separated;
-      break;
-    }
-    // w goes into the slot after the simplex; the simplex takes it only once the new closest
-    // point is known to be closer, so an oscillation leaves the previous simplex as it was.
-    s.vertex[std::size_t(s.count)] = w;
-    ++s.count;
-    max_w2 = std::max(max_w2, w.w.squaredNorm());
-    Candidate candidate;
-    if (!closest_sub_simplex(s, candidate, lambda)) {
-      status = GjkStatus::intersecting;
-      v = Vec3::Zero();
-      vv = 0;
+    // (3) counts its iteration; so does (2) when the search goes on.
+    if (stopped_by == 3)
       ++iteration;
+    if (stopped_by == 0 || !recover(s.vertex[std::size_t(s.count)]))
       break;
-    }
-    const Vec3 next = candidate_point(s, candidate);
-    const Real next_vv = next.squaredNorm();
-    // (3) oscillation: rounding stopped the strict decrease; keep the previous simplex.
-    if (!(next_vv < vv)) {
-      --s.count;
-      status = GjkStatus::separated;
+    if (stopped_by == 2)
       ++iteration;
-      break;
-    }
-    apply(s, lambda, candidate);
-    v = next;
-    vv = next_vv;
+    status = GjkStatus::max_iterations;
   }
   result.iterations = iteration;
+  if (stalled.restarted) {
+    if (status != GjkStatus::intersecting && !(vv < stalled.answer.vv)) {
+      // The restart found nothing closer: the answer before it stands.
+      s = stalled.answer.simplex;
+      lambda = stalled.answer.lambda;
+      v = stalled.answer.v;
+      vv = stalled.answer.vv;
+    }
+    // A restart begins after the search has stopped with an answer; running out of iterations
+    // or meeting a non-finite support in it leaves that answer (or a better one) standing.
+    if (status == GjkStatus::max_iterations || status == GjkStatus::degenerate)
+      status = GjkStatus::separated;
+  }
 
   Vec3 on_a = Vec3::Zero();
   Vec3 on_b = Vec3::Zero();
