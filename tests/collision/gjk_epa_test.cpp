@@ -375,5 +375,38 @@ TEST(Gjk, CylinderNearlyTouchingAFaceHasTheExactDistance) {
       poses, worst[0], worst[1], worst[2]);
 }
 
+// Two cylinders' sides crossed a hair apart (1e-10 to 1e-3 of the size): both axes square to the
+// line joining the centres, at 27 to 90 degrees to each other, so the exact distance is the gap.
+// Both surfaces are curved and only the rims are support points, so GJK's simplex must hold both
+// side lines; the stall recovery's four-corner refreshes put them in (gjk.cpp). Measured here:
+// 2.2e-7 of the size before the stall recovery, 7.5e-9 without the four-corner refreshes, 5.5e-9
+// with the lines at the support's angles only (not across the axes' common perpendicular).
+TEST(Gjk, CrossedCylindersNearlyTouchingHaveTheExactDistance) {
+  Rng rng(3108);
+  const int poses = scaled(20000);
+  Real worst = 0;
+  for (int i = 0; i < poses; ++i) {
+    const Real size = std::pow(10, uniform(rng, -1.5, 0.5));
+    const Shape a = Shape::cylinder(size * uniform(rng, 0.2, 1), size * uniform(rng, 0.5, 1.5));
+    const Shape b = Shape::cylinder(size * uniform(rng, 0.2, 1), size * uniform(rng, 0.5, 1.5));
+    const Quat turn = random_rotation(rng);
+    const Vec3 across = turn * Vec3::UnitX();
+    const Real gap = size * std::pow(10, uniform(rng, -10, -3));
+    const Transform pose_a{random_vector_in_box(rng, 2), turn};
+    const Transform pose_b{pose_a.translation + across * (a.radius + b.radius + gap),
+                           turn * Quat(Eigen::AngleAxis<Real>(
+                                      uniform(rng, 0.15, 0.5) * std::numbers::pi, Vec3::UnitX()))};
+    const GjkResult g = i % 2 == 0
+                            ? gjk(ConvexSupport::of(a, pose_a), ConvexSupport::of(b, pose_b))
+                            : gjk(ConvexSupport::of(b, pose_b), ConvexSupport::of(a, pose_a));
+    ASSERT_EQ(g.status, GjkStatus::separated) << "pose " << i << " gap " << gap;
+    const Real error = std::abs(g.distance - gap) / size;
+    EXPECT_LE(error, 1e-10) << "pose " << i << " gap " << gap;
+    worst = std::max(worst, error);
+  }
+  std::printf("[ stats    ] crossed cylinders a hair apart, %d poses: worst |error| / size %.2e\n",
+              poses, worst);
+}
+
 }  // namespace
 }  // namespace tumble::testing

@@ -512,10 +512,7 @@ TEST(NarrowPhaseContract, CylinderNearlyTouchingIsFoundWithinTwiceItsGap) {
     Real deepest = -std::numeric_limits<Real>::infinity();
     for (int k = 0; k < m.count; ++k)
       deepest = std::max(deepest, m.points[std::size_t(k)].depth);
-    // Crossed sides are two curved surfaces in point contact, where GJK's simplex chords the
-    // surface (docs/narrow-phase.md, known limits: 8.2e-9 of the size).
-    EXPECT_NEAR(deepest, -gap, (other == 2 ? 1e-8 : 1e-10) * size)
-        << "pose " << i << " other " << other;
+    EXPECT_NEAR(deepest, -gap, 1e-10 * size) << "pose " << i << " other " << other;
     worst[std::size_t(other)] = std::max(worst[std::size_t(other)], std::abs(deepest + gap) / size);
     EXPECT_EQ(collide(cylinder, pose, below, below_pose, gap / 2, m), 0)
         << "pose " << i << " other " << other << " gap " << gap;
