@@ -379,7 +379,7 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
     Candidate candidate;
     std::array<Real, 4> unused{};
     if (!closest_sub_simplex(t, candidate, unused))
-      continue;  // not reached: a stalled simplex has at most three vertices
+      continue;  // four side-line ends around the origin: not a separated answer; left to GJK
     const Vec3 point = candidate_point(t, candidate);
     if (point.squaredNorm() < best_vv) {
       best_vv = point.squaredNorm();
