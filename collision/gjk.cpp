@@ -340,6 +340,20 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
   Vec3 best_point = v;
   Real best_vv = vv;
   const Real reach2 = kRefreshReach * kRefreshReach * max_w2;
+  // Keeps simplex t if its closest point is the closest yet.
+  const auto consider = [&](const GjkSimplex& t) {
+    Candidate candidate;
+    std::array<Real, 4> unused{};
+    if (!closest_sub_simplex(t, candidate, unused))
+      return;  // four side-line ends around the origin: not a separated answer; left to GJK
+    const Vec3 point = candidate_point(t, candidate);
+    if (point.squaredNorm() < best_vv) {
+      best_vv = point.squaredNorm();
+      best_point = point;
+      best_simplex = t;
+      best_candidate = candidate;
+    }
+  };
   for (int variant = 0; variant < 10; ++variant) {
     if (variant >= 8) {
       // Two cylinders, one's rim on the other's side (8: A's rim on B's side, 9: B's on A's):
@@ -401,16 +415,7 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
         u.index_b = rim_of_a ? end : rim_cap;
         u.w = u.a - u.b;
       }
-      Candidate candidate;
-      std::array<Real, 4> unused{};
-      closest_sub_simplex(t, candidate, unused);
-      const Vec3 point = candidate_point(t, candidate);
-      if (point.squaredNorm() < best_vv) {
-        best_vv = point.squaredNorm();
-        best_point = point;
-        best_simplex = t;
-        best_candidate = candidate;
-      }
+      consider(t);
       continue;
     }
     // 0, 1: every point on A, on B; 2, 3: only those near w's; 4, 5: a cylinder's turned to w's
@@ -476,17 +481,7 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
       }
       u.w = u.a - u.b;
     }
-    Candidate candidate;
-    std::array<Real, 4> unused{};
-    if (!closest_sub_simplex(t, candidate, unused))
-      continue;  // four side-line ends around the origin: not a separated answer; left to GJK
-    const Vec3 point = candidate_point(t, candidate);
-    if (point.squaredNorm() < best_vv) {
-      best_vv = point.squaredNorm();
-      best_point = point;
-      best_simplex = t;
-      best_candidate = candidate;
-    }
+    consider(t);
   }
   if (!(best_vv < vv))
     return false;
