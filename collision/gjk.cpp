@@ -347,10 +347,167 @@ struct CircleToLine {
   }
 };
 
-// Refresh (see the file comment): every vertex's point on A, or on B, or only those near w's,
-// replaced by w's, or a cylinder's turned to w's angle, or two cylinders' side lines, or one's
-// rim point against the other's side. Adopts the closest of these simplices into (s, lambda, v,
-// vv) and returns true when it is closer than the current one.
+// The refreshed simplices (see the file comment). Each is built from the stalled simplex s and the
+// new support w; every vertex stays a point of A - B.
+
+// Every vertex's point on A (on_a) or on B replaced by w's, or (near_only) only those within
+// `reach2` (squared) of w's.
+GjkSimplex with_parts_of_w(const GjkSimplex& s, const SimplexVertex& w, bool on_a, bool near_only,
+                           Real reach2) {
+  GjkSimplex t = s;
+  for (int i = 0; i < t.count; ++i) {
+    SimplexVertex& u = t.vertex[std::size_t(i)];
+    if (on_a && (!near_only || (u.a - w.a).squaredNorm() <= reach2)) {
+      u.a = w.a;
+      u.index_a = w.index_a;
+    } else if (!on_a && (!near_only || (u.b - w.b).squaredNorm() <= reach2)) {
+      u.b = w.b;
+      u.index_b = w.index_b;
+    }
+    u.w = u.a - u.b;
+  }
+  return t;
+}
+
+// A cylinder's points (A's, or B's) turned about its axis to w's angle, each on its own cap.
+GjkSimplex turned_to_w(const detail::PairInA& pair, const GjkSimplex& s, const SimplexVertex& w,
+                       bool on_a) {
+  GjkSimplex t = s;
+  for (int i = 0; i < t.count; ++i) {
+    SimplexVertex& u = t.vertex[std::size_t(i)];
+    if (on_a) {
+      // A's frame is the cylinder's: the axis is z.
+      u.a.x() = w.a.x();
+      u.a.y() = w.a.y();
+    } else {
+      // B's axis is the third column of its rotation into A's frame.
+      const Vec3 axis = pair.rotation_b.col(2);
+      const Vec3 around = w.b - u.b;
+      u.b += around - axis * axis.dot(around);
+    }
+    u.w = u.a - u.b;
+  }
+  return t;
+}
+
+// Two cylinders' sides crossed: the closest points lie inside both side lines, and a simplex of
+// three of the four end pairs can miss where the lines cross, so all four go in (a flat
+// tetrahedron: closest_sub_simplex takes its best face). The lines are those of the support
+// `ends`: A's runs along z in A's frame, B's along its axis from its support point to the other
+// cap.
+GjkSimplex side_line_ends(const detail::PairInA& pair, const SimplexVertex& ends) {
+  const Vec3 axis_b = pair.rotation_b.col(2);
+  const Real length_b = 2 * pair.b->shape->half_length;
+  const Vec3 b_other = ends.b + axis_b * (ends.index_b == 1 ? -length_b : length_b);
+  const Real half_a = pair.a->shape->half_length;
+  GjkSimplex t;
+  for (int corner = 0; corner < 4; ++corner) {
+    SimplexVertex& u = t.vertex[std::size_t(corner)];
+    u.a = Vec3(ends.a.x(), ends.a.y(), corner & 1 ? half_a : -half_a);
+    u.index_a = corner & 1;
+    u.b = corner & 2 ? ends.b : b_other;
+    u.index_b = corner & 2 ? ends.index_b : 1 - ends.index_b;
+    u.w = u.a - u.b;
+  }
+  t.count = 4;
+  return t;
+}
+
+// The support facing across the two cylinders' common perpendicular of their axes (near touching,
+// v's direction can be far off while |v| is small); false for parallel axes, whose sides touch
+// along a line that GJK finds.
+bool support_across_axes(detail::PairInA& pair, SimplexVertex& out) {
+  Vec3 across = Vec3::UnitZ().cross(Vec3(pair.rotation_b.col(2)));
+  if (!(across.squaredNorm() > kDegenerate))
+    return false;
+  if (across.dot(pair.translation_b) > 0)
+    across = -across;  // from B to A
+  out = pair.support(-across);
+  return true;
+}
+
+// One cylinder's rim on the other's side (rim_of_a: A's rim on B's side): the rim points closest
+// to the other's axis line, on the rim of w's cap, against the other's side line facing them;
+// the closest point is the rim's distance to the side (when it lies between the caps). Empty
+// (count 0) when the rim point is on the other's axis.
+GjkSimplex rim_on_side(const detail::PairInA& pair, const SimplexVertex& w, bool rim_of_a) {
+  const Shape& rim_shape = rim_of_a ? *pair.a->shape : *pair.b->shape;
+  const Shape& side_shape = rim_of_a ? *pair.b->shape : *pair.a->shape;
+  // Both cylinders in A's frame: A's axis is z through the origin.
+  const Vec3 axis_b = pair.rotation_b.col(2);
+  const Vec3 rim_axis = rim_of_a ? Vec3::UnitZ() : axis_b;
+  const Vec3 rim_u = rim_of_a ? Vec3::UnitX() : Vec3(pair.rotation_b.col(0));
+  const Vec3 rim_v = rim_of_a ? Vec3::UnitY() : Vec3(pair.rotation_b.col(1));
+  const Vec3 rim_centre_of_axis = rim_of_a ? Vec3::Zero() : pair.translation_b;
+  const Vec3 side_axis = rim_of_a ? axis_b : Vec3::UnitZ();
+  const Vec3 side_centre = rim_of_a ? pair.translation_b : Vec3::Zero();
+  const Vec3& rim_start = rim_of_a ? w.a : w.b;
+  const int rim_cap = rim_of_a ? w.index_a : w.index_b;
+  const Vec3 rim_centre = rim_centre_of_axis + rim_axis * (rim_cap == 1 ? rim_shape.half_length
+                                                                        : -rim_shape.half_length);
+  // The squared distance to the other's axis along the rim has at most two minima. Newton from
+  // w's angle and from the opposite one finds them; the two closest distinct ones are kept. (Five
+  // starts around the rim measured 4.7e-11 of the size against 1.9e-10 on a probe of 20,000 caps
+  // flat on a side, at 1.4x the time.)
+  const CircleToLine to_axis(rim_centre, rim_u, rim_v, rim_shape.radius, side_centre, side_axis);
+  const Vec3 start = rim_start - rim_centre;
+  Real angle = 0;
+  Real across_angle = 0;
+  Real best_squared = std::numeric_limits<Real>::infinity();
+  Real second_squared = std::numeric_limits<Real>::infinity();
+  const Real start_angle = std::atan2(start.dot(rim_v), start.dot(rim_u));
+  for (int k = 0; k < 2; ++k) {
+    const Real found = to_axis.minimum_from(start_angle + k * std::numbers::pi_v<Real>);
+    const Real squared = to_axis.squared(found);
+    const bool same =
+        k > 0 && std::abs(std::remainder(found - angle, 2 * std::numbers::pi_v<Real>)) < Real(1e-9);
+    if (squared < best_squared) {
+      if (!same) {
+        across_angle = angle;
+        second_squared = best_squared;
+      }
+      angle = found;
+      best_squared = squared;
+    } else if (!same && squared < second_squared) {
+      across_angle = found;
+      second_squared = squared;
+    }
+  }
+  if (!(second_squared < std::numeric_limits<Real>::infinity()))
+    across_angle = angle;
+  const auto rim_at = [&](Real a) {
+    return Vec3(rim_centre + (rim_u * std::cos(a) + rim_v * std::sin(a)) * rim_shape.radius);
+  };
+  const Vec3 rim_point = rim_at(angle);
+  Vec3 outward = rim_point - side_centre;
+  outward -= side_axis * side_axis.dot(outward);
+  GjkSimplex t;
+  if (!(outward.squaredNorm() > 0))
+    return t;
+  outward.normalize();
+  // The other minimum (a cap flat over the side has two, where the rim crosses over the side
+  // line): with both, the simplex holds the chord between them, which the line passes under.
+  const Vec3 second_point = rim_at(across_angle);
+  t.count = (second_point - rim_point).squaredNorm() > 0 ? 4 : 2;
+  for (int corner = 0; corner < t.count; ++corner) {
+    SimplexVertex& u = t.vertex[std::size_t(corner)];
+    const int end = corner & 1;
+    const Vec3& on_rim = corner < 2 ? rim_point : second_point;
+    const Vec3 side_point =
+        side_centre + outward * side_shape.radius +
+        side_axis * (end == 1 ? side_shape.half_length : -side_shape.half_length);
+    u.a = rim_of_a ? on_rim : side_point;
+    u.b = rim_of_a ? side_point : on_rim;
+    u.index_a = rim_of_a ? rim_cap : end;
+    u.index_b = rim_of_a ? end : rim_cap;
+    u.w = u.a - u.b;
+  }
+  return t;
+}
+
+// Refresh (see the file comment): tries the simplices above and adopts the closest into
+// (s, lambda, v, vv); returns true when it is closer than the current one. The order is fixed,
+// and the first of equally close ones is kept.
 bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimplex& s,
              std::array<Real, 4>& lambda, Vec3& v, Real& vv) {
   const auto is_cylinder = [](const ConvexSupport* c) {
@@ -362,12 +519,11 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
   Candidate best_candidate;
   Vec3 best_point = v;
   Real best_vv = vv;
-  const Real reach2 = kRefreshReach * kRefreshReach * max_w2;
   // Keeps simplex t if its closest point is the closest yet.
   const auto consider = [&](const GjkSimplex& t) {
     Candidate candidate;
     std::array<Real, 4> unused{};
-    if (!closest_sub_simplex(t, candidate, unused))
+    if (t.count == 0 || !closest_sub_simplex(t, candidate, unused))
       return;  // four side-line ends around the origin: not a separated answer; left to GJK
     const Vec3 point = candidate_point(t, candidate);
     if (point.squaredNorm() < best_vv) {
@@ -377,157 +533,22 @@ bool refresh(detail::PairInA& pair, const SimplexVertex& w, Real max_w2, GjkSimp
       best_candidate = candidate;
     }
   };
-  for (int variant = 0; variant < 10; ++variant) {
-    if (variant >= 8) {
-      // Two cylinders, one's rim on the other's side (8: A's rim on B's side, 9: B's on A's):
-      // the rim point closest to the other's axis line, on the rim of w's cap, and the other's
-      // side line facing it; two vertices, whose closest point is that rim point's distance to
-      // the side (when it lies between the caps).
-      if (!(a_cylinder && b_cylinder))
-        continue;
-      const bool rim_of_a = variant == 8;
-      const Shape& rim_shape = rim_of_a ? *pair.a->shape : *pair.b->shape;
-      const Shape& side_shape = rim_of_a ? *pair.b->shape : *pair.a->shape;
-      // Both cylinders in A's frame: A's axis is z through the origin.
-      const Vec3 axis_b = pair.rotation_b.col(2);
-      const Vec3 rim_axis = rim_of_a ? Vec3::UnitZ() : axis_b;
-      const Vec3 rim_u = rim_of_a ? Vec3::UnitX() : Vec3(pair.rotation_b.col(0));
-      const Vec3 rim_v = rim_of_a ? Vec3::UnitY() : Vec3(pair.rotation_b.col(1));
-      const Vec3 rim_centre_of_axis = rim_of_a ? Vec3::Zero() : pair.translation_b;
-      const Vec3 side_axis = rim_of_a ? axis_b : Vec3::UnitZ();
-      const Vec3 side_centre = rim_of_a ? pair.translation_b : Vec3::Zero();
-      const Vec3& rim_start = rim_of_a ? w.a : w.b;
-      const int rim_cap = rim_of_a ? w.index_a : w.index_b;
-      const Vec3 rim_centre =
-          rim_centre_of_axis +
-          rim_axis * (rim_cap == 1 ? rim_shape.half_length : -rim_shape.half_length);
-      // The squared distance to the other's axis along the rim has at most two minima. Newton
-      // from w's angle and from the opposite one finds them; the two closest distinct ones are
-      // kept. (Five starts around the rim measured 4.7e-11 of the size against 1.9e-10 on a
-      // probe of 20,000 caps flat on a side, at 1.4x the time.)
-      const CircleToLine to_axis(rim_centre, rim_u, rim_v, rim_shape.radius, side_centre,
-                                 side_axis);
-      const Vec3 start = rim_start - rim_centre;
-      Real angle = 0;
-      Real across_angle = 0;
-      Real best_squared = std::numeric_limits<Real>::infinity();
-      Real second_squared = std::numeric_limits<Real>::infinity();
-      const Real start_angle = std::atan2(start.dot(rim_v), start.dot(rim_u));
-      for (int k = 0; k < 2; ++k) {
-        const Real from = start_angle + k * std::numbers::pi_v<Real>;
-        const Real found = to_axis.minimum_from(from);
-        const Real squared = to_axis.squared(found);
-        const bool same = k > 0 && std::abs(std::remainder(
-                                       found - angle, 2 * std::numbers::pi_v<Real>)) < Real(1e-9);
-        if (squared < best_squared) {
-          if (!same) {
-            across_angle = angle;
-            second_squared = best_squared;
-          }
-          angle = found;
-          best_squared = squared;
-        } else if (!same && squared < second_squared) {
-          across_angle = found;
-          second_squared = squared;
-        }
-      }
-      if (!(second_squared < std::numeric_limits<Real>::infinity()))
-        across_angle = angle;
-      const auto rim_at = [&](Real a) {
-        return Vec3(rim_centre + (rim_u * std::cos(a) + rim_v * std::sin(a)) * rim_shape.radius);
-      };
-      const Vec3 rim_point = rim_at(angle);
-      Vec3 outward = rim_point - side_centre;
-      outward -= side_axis * side_axis.dot(outward);
-      if (!(outward.squaredNorm() > 0))
-        continue;
-      outward.normalize();
-      // The other minimum (a cap flat over the side has two, where the rim crosses over the side
-      // line): with both, the simplex holds the chord between them, which the line passes under.
-      const Vec3 second_point = rim_at(across_angle);
-      const int rim_points = (second_point - rim_point).squaredNorm() > 0 ? 2 : 1;
-      GjkSimplex t;
-      t.count = 2 * rim_points;
-      for (int corner = 0; corner < t.count; ++corner) {
-        SimplexVertex& u = t.vertex[std::size_t(corner)];
-        const int end = corner & 1;
-        const Vec3& on_rim = corner < 2 ? rim_point : second_point;
-        const Vec3 side_point =
-            side_centre + outward * side_shape.radius +
-            side_axis * (end == 1 ? side_shape.half_length : -side_shape.half_length);
-        u.a = rim_of_a ? on_rim : side_point;
-        u.b = rim_of_a ? side_point : on_rim;
-        u.index_a = rim_of_a ? rim_cap : end;
-        u.index_b = rim_of_a ? end : rim_cap;
-        u.w = u.a - u.b;
-      }
-      consider(t);
-      continue;
-    }
-    // 0, 1: every point on A, on B; 2, 3: only those near w's; 4, 5: a cylinder's turned to w's
-    // angle on their own caps; 6, 7: two cylinders, the four pairs of their side lines' ends, at
-    // w's angles or facing each other across the axes' common perpendicular.
-    const bool turn_a = variant == 4 && a_cylinder;
-    const bool turn_b = variant == 5 && b_cylinder;
-    if ((variant == 4 || variant == 5) && !(turn_a || turn_b))
-      continue;
-    if (variant >= 6 && !(a_cylinder && b_cylinder))
-      continue;
-    const bool on_a = variant % 2 == 0;
-    const bool near_only = variant == 2 || variant == 3;
-    GjkSimplex t = s;
-    if (variant >= 6) {
-      // Two cylinders' sides crossed: the closest points lie inside both side lines, and a
-      // simplex of three of the four end pairs can miss where the lines cross, so all four go in
-      // (a flat tetrahedron: closest_sub_simplex takes its best face). Near touching, v's
-      // direction can be far off while |v| is small, so the lines are also taken where the
-      // axes' common perpendicular puts them. A's side line runs along z in A's frame; B's
-      // along its axis, from its support point to the other cap.
-      const Vec3 axis_b = pair.rotation_b.col(2);
-      SimplexVertex ends = w;
-      if (variant == 7) {
-        Vec3 across = Vec3::UnitZ().cross(axis_b);
-        if (!(across.squaredNorm() > kDegenerate))
-          continue;  // parallel axes: the sides touch along a line, which GJK finds
-        if (across.dot(pair.translation_b) > 0)
-          across = -across;  // from B to A
-        ends = pair.support(-across);
-      }
-      const Real length_b = 2 * pair.b->shape->half_length;
-      const Vec3 b_other = ends.b + axis_b * (ends.index_b == 1 ? -length_b : length_b);
-      const Real half_a = pair.a->shape->half_length;
-      for (int corner = 0; corner < 4; ++corner) {
-        SimplexVertex& u = t.vertex[std::size_t(corner)];
-        u.a = Vec3(ends.a.x(), ends.a.y(), corner & 1 ? half_a : -half_a);
-        u.index_a = corner & 1;
-        u.b = corner & 2 ? ends.b : b_other;
-        u.index_b = corner & 2 ? ends.index_b : 1 - ends.index_b;
-        u.w = u.a - u.b;
-      }
-      t.count = 4;
-    }
-    for (int i = 0; i < t.count && variant < 6; ++i) {
-      SimplexVertex& u = t.vertex[std::size_t(i)];
-      if (turn_a) {
-        // A cylinder's rim point at w's angle on the vertex's own cap (A's frame is the
-        // cylinder's: the axis is z).
-        u.a.x() = w.a.x();
-        u.a.y() = w.a.y();
-      } else if (turn_b) {
-        // The same for B, whose axis is the third column of its rotation into A's frame.
-        const Vec3 axis = pair.rotation_b.col(2);
-        const Vec3 around = w.b - u.b;
-        u.b += around - axis * axis.dot(around);
-      } else if (on_a && (!near_only || (u.a - w.a).squaredNorm() <= reach2)) {
-        u.a = w.a;
-        u.index_a = w.index_a;
-      } else if (!on_a && (!near_only || (u.b - w.b).squaredNorm() <= reach2)) {
-        u.b = w.b;
-        u.index_b = w.index_b;
-      }
-      u.w = u.a - u.b;
-    }
-    consider(t);
+  const Real reach2 = kRefreshReach * kRefreshReach * max_w2;
+  for (const bool near_only : {false, true}) {
+    consider(with_parts_of_w(s, w, true, near_only, reach2));
+    consider(with_parts_of_w(s, w, false, near_only, reach2));
+  }
+  if (a_cylinder)
+    consider(turned_to_w(pair, s, w, true));
+  if (b_cylinder)
+    consider(turned_to_w(pair, s, w, false));
+  if (a_cylinder && b_cylinder) {
+    consider(side_line_ends(pair, w));
+    SimplexVertex across;
+    if (support_across_axes(pair, across))
+      consider(side_line_ends(pair, across));
+    consider(rim_on_side(pair, w, true));
+    consider(rim_on_side(pair, w, false));
   }
   if (!(best_vv < vv))
     return false;
