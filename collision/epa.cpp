@@ -185,13 +185,23 @@ struct Polytope {
     return {normal_x[at], normal_y[at], normal_z[at]};
   }
 
+  // In scalars: from the Vec3, GCC loaded normal_x[f] and normal_x[f + 1] as one pair, and
+  // the face is usually one the last fan has just written coordinate by coordinate, so the
+  // load waited for the stores to retire (a failed store-to-load forwarding).
+  Real normal_length(int f) const {
+    const std::size_t at = std::size_t(f);
+    const Real x = normal_x[at], y = normal_y[at], z = normal_z[at];
+    return std::sqrt(x * x + y * y + z * z);
+  }
+
   Vec3 unit_normal(int f) const {
-    const Vec3 n = normal(f);
-    return n * (Real(1) / n.norm());
+    const std::size_t at = std::size_t(f);
+    const Real inverse = Real(1) / normal_length(f);
+    return {normal_x[at] * inverse, normal_y[at] * inverse, normal_z[at] * inverse};
   }
 
   // Signed distance of face f's plane from the origin.
-  Real plane_distance(int f) const { return offset[std::size_t(f)] / normal(f).norm(); }
+  Real plane_distance(int f) const { return offset[std::size_t(f)] / normal_length(f); }
 
   bool sees(int f, const Vec3& w) const {
     const std::size_t at = std::size_t(f);
@@ -404,10 +414,22 @@ void place_small_hull_b(detail::PairInA& pair, PlacedHull& storage) {
 Vertex support_vertex(detail::PairInA& pair, const Vec3& d) {
   if (pair.b_placed) {
     const SupportPair i = scan_support_pair(pair.a_scan, d, pair.b_scan, -d);
+    // Coordinate by coordinate: built as Eigen vectors, GCC stored the loaded scalars and read
+    // them back as pairs, a failed store-to-load forwarding that cost a fifth of EPA's time.
+    const std::size_t ia = std::size_t(i.a);
+    const std::size_t ib = std::size_t(i.b);
+    const Real ax = pair.a_scan.x[ia], ay = pair.a_scan.y[ia], az = pair.a_scan.z[ia];
+    const Real bx = pair.b_scan.x[ib], by = pair.b_scan.y[ib], bz = pair.b_scan.z[ib];
     Vertex v;
-    v.a = detail::PairInA::scanned_vertex(pair.a_scan, i.a);
-    v.b = detail::PairInA::scanned_vertex(pair.b_scan, i.b);
-    v.w = v.a - v.b;
+    v.a.x() = ax;
+    v.a.y() = ay;
+    v.a.z() = az;
+    v.b.x() = bx;
+    v.b.y() = by;
+    v.b.z() = bz;
+    v.w.x() = ax - bx;
+    v.w.y() = ay - by;
+    v.w.z() = az - bz;
     v.index_a = i.a;
     v.index_b = i.b;
     return v;
@@ -567,37 +589,59 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
   std::array<int, kEpaMaxFaces> fan;
   // The smallest upper bound seen: the support value along a face normal is the length of a
   // translation along that normal that separates the objects, so it is a feasible answer.
+  // Curved shapes track it as they go (their loop also stops on it); on polytopes it serves
+  // only the fallback, so each iteration just records the normal it tried (its support point
+  // is the vertex it adds, or `w` for the last) and the bound is found after the loop,
+  // keeping a square root, a division and a copy out of every iteration.
   Real best_upper = kInfinity;
   Vec3 best_upper_normal = Vec3::UnitZ();
   Vertex best_upper_vertex = poly.vertex[0];
+  std::array<Vec3, kEpaMaxVertices> tried_normal;
+  int tried_count = 0;
+  Vertex w = poly.vertex[0];
+  const auto track_upper_bound = [&](const Vec3& unit, const Vertex& support) {
+    const Real upper = support.w.dot(unit);
+    if (upper < best_upper) {
+      best_upper = upper;
+      best_upper_normal = unit;
+      best_upper_vertex = support;
+    }
+    return upper;
+  };
   for (; iteration < settings.max_iterations; ++iteration) {
     closest = poly.closest_face();
     if (closest < 0)
       break;
     const Face& best = poly.face[std::size_t(closest)];
-    const Real best_distance = poly.plane_distance(closest);
     if (uses_hints)
       set_hints(pair, poly, closest);
     // The support along the unnormalised normal (a support map does not depend on the length
     // of its direction), so the scan need not wait for the normalisation.
-    const Vertex w = support_vertex(pair, poly.normal(closest));
-    const Vec3 unit = poly.unit_normal(closest);
-    const Real upper = w.w.dot(unit);
-    if (upper < best_upper) {
-      best_upper = upper;
-      best_upper_normal = unit;
-      best_upper_vertex = w;
-    }
-    if (upper - best_distance <= tolerance) {
-      result.status = EpaStatus::converged;
-      break;
-    }
-    if (curved && best_upper - best_distance <= curved_tolerance) {
-      // The depth is bracketed by the closest face (a lower bound) and the best upper bound
-      // within the curved tolerance; the upper bound is the closer one on a curved patch.
-      result.status = EpaStatus::converged;
-      answer_upper_bound = true;
-      break;
+    const Vec3 normal = poly.normal(closest);
+    w = support_vertex(pair, normal);
+    if (curved) {
+      const Real best_distance = poly.plane_distance(closest);
+      const Real upper = track_upper_bound(poly.unit_normal(closest), w);
+      if (upper - best_distance <= tolerance) {
+        result.status = EpaStatus::converged;
+        break;
+      }
+      if (best_upper - best_distance <= curved_tolerance) {
+        // The depth is bracketed by the closest face (a lower bound) and the best upper bound
+        // within the curved tolerance; the upper bound is the closer one on a curved patch.
+        result.status = EpaStatus::converged;
+        answer_upper_bound = true;
+        break;
+      }
+    } else {
+      tried_normal[std::size_t(tried_count++)] = normal;
+      // The support value's excess over the face, (w . n - offset) / |n|, within the
+      // tolerance, without dividing.
+      const Real excess = w.w.dot(normal) - poly.offset[std::size_t(closest)];
+      if (excess <= tolerance * poly.normal_length(closest)) {
+        result.status = EpaStatus::converged;
+        break;
+      }
     }
     if (poly.vertex_count >= kEpaMaxVertices) {
       result.status = EpaStatus::out_of_capacity;
@@ -634,9 +678,11 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
       }
     }
     // The fan: face h joins horizon edge h (reversed in the kept face) to w. Its edge 0 borders
-    // the kept face, edge 1 the next fan face and edge 2 the previous one.
+    // the kept face, edge 1 the next fan face and edge 2 the previous one. The walk gives the
+    // horizon as a loop in order, so each face is joined to the previous one as it is made.
     bool broken = false;
-    for (int h = 0; h < horizon_count && !broken; ++h) {
+    bool in_order = true;
+    for (int h = 0; h < horizon_count; ++h) {
       const FaceEdge kept = horizon[std::size_t(h)];
       const Face& k = poly.face[std::size_t(kept.face)];
       const int from = k.v[std::size_t(next3(kept.edge))];
@@ -648,25 +694,34 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
       }
       fan[std::size_t(h)] = slot;
       poly.link(slot, 0, kept.face, kept.edge);
+      if (h > 0) {
+        const int previous = fan[std::size_t(h - 1)];
+        in_order = in_order && poly.face[std::size_t(previous)].v[1] == from;
+        poly.link(previous, 1, slot, 2);
+      }
     }
-    // Close the fan. The walk gives the loop in order; should rounding have made the hole
-    // pinched (a vertex twice on the horizon), the faces cannot be joined into a closed mesh
-    // and the loop stops with the polytope as it stands.
-    for (int h = 0; h < horizon_count && !broken; ++h) {
-      const int face_h = fan[std::size_t(h)];
-      const int end = poly.face[std::size_t(face_h)].v[1];
-      int next = fan[std::size_t(h + 1 < horizon_count ? h + 1 : 0)];
-      if (poly.face[std::size_t(next)].v[0] != end) {
-        next = -1;
+    if (!broken && in_order &&
+        poly.face[std::size_t(fan[std::size_t(horizon_count - 1)])].v[1] ==
+            poly.face[std::size_t(fan[0])].v[0]) {
+      poly.link(fan[std::size_t(horizon_count - 1)], 1, fan[0], 2);
+    } else if (!broken) {
+      // Out of order (never seen, kept for safety): join each face to the one that starts
+      // where it ends. Should rounding have made the hole pinched (a vertex twice on the
+      // horizon), the faces cannot be joined into a closed mesh and the loop stops with the
+      // polytope as it stands.
+      for (int h = 0; h < horizon_count && !broken; ++h) {
+        const int face_h = fan[std::size_t(h)];
+        const int end = poly.face[std::size_t(face_h)].v[1];
+        int next = -1;
         for (int m = 0; m < horizon_count; ++m)
           if (poly.face[std::size_t(fan[std::size_t(m)])].v[0] == end)
             next = next < 0 ? fan[std::size_t(m)] : -2;
+        if (next < 0) {
+          broken = true;
+          break;
+        }
+        poly.link(face_h, 1, next, 2);
       }
-      if (next < 0) {
-        broken = true;
-        break;
-      }
-      poly.link(face_h, 1, next, 2);
     }
     if (broken) {
       result.status = EpaStatus::out_of_capacity;
@@ -678,6 +733,17 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
     // Fallback: the closest face of the polytope as it stands (its distance is a lower bound of
     // the depth). The index from the last iteration may be stale after the face list changed.
     closest = poly.closest_face();
+    if (!curved) {
+      // The tried normals in order: iteration k added vertex 4 + k, but the last may have
+      // stopped before adding its support point `w`.
+      for (int k = 0; k < tried_count; ++k) {
+        const std::size_t at = std::size_t(4 + k);
+        const Vec3& n = tried_normal[std::size_t(k)];
+        const Real length = std::sqrt(n.x() * n.x() + n.y() * n.y() + n.z() * n.z());
+        const Vec3 unit = n * (Real(1) / length);
+        track_upper_bound(unit, int(at) < poly.vertex_count ? poly.vertex[at] : w);
+      }
+    }
   }
   if (answer_upper_bound ||
       (result.status != EpaStatus::converged && std::isfinite(best_upper) &&
