@@ -411,7 +411,7 @@ void place_small_hull_b(detail::PairInA& pair, PlacedHull& storage) {
 
 // EPA's support call: with both hulls placed, the two scans in one call, written straight into
 // a polytope vertex; otherwise PairInA::support.
-Vertex support_vertex(detail::PairInA& pair, const Vec3& d) {
+__attribute__((always_inline)) inline Vertex support_vertex(detail::PairInA& pair, const Vec3& d) {
   if (pair.b_placed) {
     const SupportPair i = scan_support_pair(pair.a_scan, d, pair.b_scan, -d);
     // Coordinate by coordinate: built as Eigen vectors, GCC stored the loaded scalars and read

@@ -218,6 +218,28 @@ void apply(GjkSimplex& s, std::array<Real, 4>& lambda, const Candidate& c) {
   s.count = c.count;
 }
 
+// For the face (p, q, r) of a tetrahedron with the fourth vertex o, and n = (q - p) x (r - p):
+// n . (0 - p) and n . (o - p), the sides of the origin and of o. In scalars: from Eigen's cross
+// product GCC wrote n's coordinates one by one and read two back as a pair before the stores
+// had retired (a failed store-to-load forwarding, a tenth of GJK's time on penetrating hulls).
+// The same operations in the same order as Eigen's, so the same bits.
+struct FaceSides {
+  Real origin;
+  Real opposite;
+};
+
+[[gnu::always_inline]] inline FaceSides face_sides(const Vec3& p, const Vec3& q, const Vec3& r,
+                                                   const Vec3& o) {
+  const Real ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();
+  const Real vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();
+  const Real nx = uy * vz - uz * vy;
+  const Real ny = uz * vx - ux * vz;
+  const Real nz = ux * vy - uy * vx;
+  const Real origin = -(nx * p.x() + ny * p.y() + nz * p.z());
+  const Real opposite = nx * (o.x() - p.x()) + ny * (o.y() - p.y()) + nz * (o.z() - p.z());
+  return {origin, opposite};
+}
+
 // The smallest sub-simplex of s holding the point closest to the origin. Returns false when
 // the origin is inside s, a (non-degenerate) tetrahedron; `inside_weights` then receives the
 // origin's barycentric weights (for the witness points).
@@ -248,10 +270,11 @@ void apply(GjkSimplex& s, std::array<Real, 4>& lambda, const Candidate& c) {
   out.distance2 = std::numeric_limits<Real>::infinity();
   bool any_outside = false;
   for (const auto& f : kFaces) {
-    const Vec3& p = s.vertex[std::size_t(f[0])].w;
-    const Vec3 n = (s.vertex[std::size_t(f[1])].w - p).cross(s.vertex[std::size_t(f[2])].w - p);
-    const Real origin_side = -n.dot(p);
-    const Real opposite_side = n.dot(s.vertex[std::size_t(f[3])].w - p);
+    const FaceSides sides =
+        face_sides(s.vertex[std::size_t(f[0])].w, s.vertex[std::size_t(f[1])].w,
+                   s.vertex[std::size_t(f[2])].w, s.vertex[std::size_t(f[3])].w);
+    const Real origin_side = sides.origin;
+    const Real opposite_side = sides.opposite;
     // The origin is outside this face when it is on the other side from the opposite vertex.
     const bool outside = flat || origin_side * opposite_side < 0;
     if (!outside)

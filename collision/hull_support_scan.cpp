@@ -8,6 +8,8 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 
+#include <bit>
+#include <cstdint>
 #include <limits>
 
 namespace tumble {
@@ -16,29 +18,17 @@ namespace {
 constexpr Real kLowest = -std::numeric_limits<Real>::infinity();
 constexpr Real kHighest = std::numeric_limits<Real>::infinity();
 
-// Each version keeps, per lane, the largest value seen and the index where it was first seen
-// (a strict "greater" keeps the earlier index on ties), in two accumulators (even and odd
-// blocks) to halve the chain of compares; the accumulators and then the lanes are merged
-// pairwise by largest value and, among equal values, smallest index, which leaves the first
-// index of the largest value overall. The merge is branch-free too (its comparisons would
-// mispredict as the scan's would), and merging (value, index) pairs in one pass is shorter
-// than a max-reduction followed by an index search. The indices are kept as doubles, exact up
-// to 2^53. No lane ever holds a NaN (a NaN is never "greater").
+// Each version finds the extreme value first and its index after: a max (or min) over the
+// blocks in two accumulators (even and odd blocks, to halve the chain), then across the lanes,
+// which leaves the extreme in every lane; then each block is compared with it for equality and
+// the first set bit of the combined masks is the answer. Against carrying (value, index) pairs
+// through the reduction this takes one instruction per block instead of three, and the merges
+// of the lanes are a shuffle and a max each; the comparisons recompute each block's values, off
+// the chain. MAX and MIN return their second operand when either is NaN, and the accumulator
+// (never NaN) is always the second: a NaN never enters, and never equals the extreme. -0 and +0
+// compare equal, so they tie and the first wins, as in the portable loops.
 
-// The better of two (value, index) lanes: the larger value, or the smaller index on a tie.
-__attribute__((target("avx512f"), always_inline)) inline void keep_better8(__m512d& value,
-                                                                           __m512d& index,
-                                                                           __m512d other_value,
-                                                                           __m512d other_index) {
-  const __mmask8 take = _mm512_cmp_pd_mask(other_value, value, _CMP_GT_OQ) |
-                        (_mm512_cmp_pd_mask(other_value, value, _CMP_EQ_OQ) &
-                         _mm512_cmp_pd_mask(other_index, index, _CMP_LT_OQ));
-  value = _mm512_mask_blend_pd(take, value, other_value);
-  index = _mm512_mask_blend_pd(take, index, other_index);
-}
-
-// The values of eight (four) consecutive entries: v . d of vertices, or the negated entries of
-// an array (so that the first smallest entry is the first largest value).
+// The values of eight (four) consecutive entries: v . d of vertices, or an array's entries.
 struct DotValues {
   const HullScanArrays& h;
   const Vec3& d;
@@ -54,139 +44,211 @@ struct DotValues {
                                      _mm256_mul_pd(_mm256_loadu_pd(h.y + i), dy));
     return _mm256_add_pd(xy, _mm256_mul_pd(_mm256_loadu_pd(h.z + i), dz));
   }
-  Vec3 direction() const { return d; }
+  // Each coordinate read on its own: a copy of the Vec3 was loaded as one pair, which waits
+  // for the stores when the caller has just written the direction coordinate by coordinate.
+  Real dx() const { return d.x(); }
+  Real dy() const { return d.y(); }
+  Real dz() const { return d.z(); }
   int count() const { return h.padded_count; }
 };
 
-struct NegatedValues {
+struct ArrayValues {
   const Real* values;
   int padded_count;
   __attribute__((target("avx512f"), always_inline)) __m512d at8(int i, __m512d, __m512d,
                                                                 __m512d) const {
-    return _mm512_sub_pd(_mm512_setzero_pd(), _mm512_loadu_pd(values + i));
+    return _mm512_loadu_pd(values + i);
   }
   __attribute__((target("avx2"), always_inline)) __m256d at4(int i, __m256d, __m256d,
                                                              __m256d) const {
-    return _mm256_sub_pd(_mm256_setzero_pd(), _mm256_loadu_pd(values + i));
+    return _mm256_loadu_pd(values + i);
   }
-  Vec3 direction() const { return Vec3::Zero(); }
+  Real dx() const { return 0; }
+  Real dy() const { return 0; }
+  Real dz() const { return 0; }
   int count() const { return padded_count; }
 };
 
-// One block of eight values into one accumulator.
-__attribute__((target("avx512f"), always_inline)) inline void keep_higher8(__m512d value,
-                                                                           __m512d index,
-                                                                           __m512d& best,
-                                                                           __m512d& best_index) {
-  const __mmask8 higher = _mm512_cmp_pd_mask(value, best, _CMP_GT_OQ);
-  best = _mm512_mask_blend_pd(higher, best, value);
-  best_index = _mm512_mask_blend_pd(higher, best_index, index);
+// The extreme: the largest (kLargest) or the smallest entry.
+template <bool kLargest>
+__attribute__((target("avx512f"), always_inline)) inline __m512d extreme8(__m512d value,
+                                                                          __m512d accumulator) {
+  return kLargest ? _mm512_max_pd(value, accumulator) : _mm512_min_pd(value, accumulator);
 }
 
-// The first index of the largest value, and that value in `largest`.
-template <class Values>
-__attribute__((target("avx512f"), always_inline)) inline int first_largest8(const Values& values,
-                                                                            Real& largest) {
-  const Vec3 d = values.direction();
-  const __m512d dx = _mm512_set1_pd(d.x());
-  const __m512d dy = _mm512_set1_pd(d.y());
-  const __m512d dz = _mm512_set1_pd(d.z());
+// first_extreme8 on at most 64 entries (every scanned hull, and EPA's closest face up to 64
+// faces), unrolled: the blocks' values stay in registers for the comparisons, blocks past the
+// count hold the start value (which matches only when nothing was found, and that is masked),
+// and the masks are combined with constant shifts. No branch depends on the data.
+template <bool kLargest, class Values>
+__attribute__((target("avx512f"), always_inline)) inline int first_extreme8_upto64(
+    const Values& values, __m512d dx, __m512d dy, __m512d dz, Real& extreme) {
+  constexpr Real kStart = kLargest ? kLowest : kHighest;
+  const __m512d start = _mm512_set1_pd(kStart);
   const int count = values.count();
-  __m512d best0 = _mm512_set1_pd(kLowest);
+  __m512d block[8];
+#pragma GCC unroll 8
+  for (int k = 0; k < 8; ++k)
+    block[k] = 8 * k < count ? values.at8(8 * k, dx, dy, dz) : start;
+  __m512d even = extreme8<kLargest>(block[0], start);
+  __m512d odd = extreme8<kLargest>(block[1], start);
+#pragma GCC unroll 3
+  for (int k = 2; k < 8; k += 2) {
+    even = extreme8<kLargest>(block[k], even);
+    odd = extreme8<kLargest>(block[k + 1], odd);
+  }
+  __m512d best = extreme8<kLargest>(odd, even);
+  best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0x4E), best);
+  best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0xB1), best);
+  best = extreme8<kLargest>(_mm512_permute_pd(best, 0x55), best);
+  extreme = _mm512_cvtsd_f64(best);
+  std::uint64_t equal = 0;
+#pragma GCC unroll 8
+  for (int k = 0; k < 8; ++k)
+    equal |= std::uint64_t(_mm512_cmp_pd_mask(block[k], best, _CMP_EQ_OQ)) << (8 * k);
+  equal &= extreme == kStart ? 0 : ~std::uint64_t(0);
+  return equal != 0 ? std::countr_zero(equal) : 0;
+}
+
+// The first index of the extreme value, with the extreme in `extreme` (-inf for the largest,
+// +inf for the smallest, when every entry is NaN or that infinity; the index is then 0).
+template <bool kLargest, class Values>
+__attribute__((target("avx512f"), always_inline)) inline int first_extreme8(const Values& values,
+                                                                            Real& extreme) {
+  constexpr Real kStart = kLargest ? kLowest : kHighest;
+  const __m512d dx = _mm512_set1_pd(values.dx());
+  const __m512d dy = _mm512_set1_pd(values.dy());
+  const __m512d dz = _mm512_set1_pd(values.dz());
+  const int count = values.count();
+  if (count <= 64)
+    return first_extreme8_upto64<kLargest>(values, dx, dy, dz, extreme);
+  __m512d best0 = _mm512_set1_pd(kStart);
   __m512d best1 = best0;
-  __m512d best_index0 = _mm512_setzero_pd();
-  __m512d best_index1 = best_index0;
-  __m512d index = _mm512_set_pd(7, 6, 5, 4, 3, 2, 1, 0);
-  const __m512d step = _mm512_set1_pd(8);
   int i = 0;
   for (; i + 16 <= count; i += 16) {
-    keep_higher8(values.at8(i, dx, dy, dz), index, best0, best_index0);
-    index = _mm512_add_pd(index, step);
-    keep_higher8(values.at8(i + 8, dx, dy, dz), index, best1, best_index1);
-    index = _mm512_add_pd(index, step);
+    best0 = extreme8<kLargest>(values.at8(i, dx, dy, dz), best0);
+    best1 = extreme8<kLargest>(values.at8(i + 8, dx, dy, dz), best1);
   }
   if (i < count)
-    keep_higher8(values.at8(i, dx, dy, dz), index, best0, best_index0);
-  __m512d value = best0;
-  __m512d at = best_index0;
-  keep_better8(value, at, best1, best_index1);
-  keep_better8(value, at, _mm512_shuffle_f64x2(value, value, 0x4E),
-               _mm512_shuffle_f64x2(at, at, 0x4E));
-  keep_better8(value, at, _mm512_shuffle_f64x2(value, value, 0xB1),
-               _mm512_shuffle_f64x2(at, at, 0xB1));
-  keep_better8(value, at, _mm512_permute_pd(value, 0x55), _mm512_permute_pd(at, 0x55));
-  largest = _mm512_cvtsd_f64(value);
-  return int(_mm512_cvtsd_f64(at));
-}
-
-__attribute__((target("avx2"), always_inline)) inline void keep_better4(__m256d& value,
-                                                                        __m256d& index,
-                                                                        __m256d other_value,
-                                                                        __m256d other_index) {
-  const __m256d take = _mm256_or_pd(_mm256_cmp_pd(other_value, value, _CMP_GT_OQ),
-                                    _mm256_and_pd(_mm256_cmp_pd(other_value, value, _CMP_EQ_OQ),
-                                                  _mm256_cmp_pd(other_index, index, _CMP_LT_OQ)));
-  value = _mm256_blendv_pd(value, other_value, take);
-  index = _mm256_blendv_pd(index, other_index, take);
-}
-
-template <class Values>
-__attribute__((target("avx2"), always_inline)) inline int first_largest4(const Values& values,
-                                                                         Real& largest) {
-  const Vec3 d = values.direction();
-  const __m256d dx = _mm256_set1_pd(d.x());
-  const __m256d dy = _mm256_set1_pd(d.y());
-  const __m256d dz = _mm256_set1_pd(d.z());
-  // Two accumulators of four lanes: the second holds indices 4 to 7 modulo 8.
-  __m256d best[2] = {_mm256_set1_pd(kLowest), _mm256_set1_pd(kLowest)};
-  __m256d best_index[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
-  __m256d index[2] = {_mm256_set_pd(3, 2, 1, 0), _mm256_set_pd(7, 6, 5, 4)};
-  const __m256d step = _mm256_set1_pd(8);
-  for (int i = 0; i < values.count(); i += 8) {
-    for (int half = 0; half < 2; ++half) {
-      const __m256d value = values.at4(i + 4 * half, dx, dy, dz);
-      const __m256d higher = _mm256_cmp_pd(value, best[half], _CMP_GT_OQ);
-      best[half] = _mm256_blendv_pd(best[half], value, higher);
-      best_index[half] = _mm256_blendv_pd(best_index[half], index[half], higher);
-      index[half] = _mm256_add_pd(index[half], step);
-    }
+    best0 = extreme8<kLargest>(values.at8(i, dx, dy, dz), best0);
+  __m512d best = extreme8<kLargest>(best1, best0);
+  best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0x4E), best);
+  best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0xB1), best);
+  best = extreme8<kLargest>(_mm512_permute_pd(best, 0x55), best);
+  extreme = _mm512_cvtsd_f64(best);
+  // No branch on the data from here (it would mispredict, and it kept the two scans of a pair
+  // from overlapping): an extreme still at the start value matches nothing, and the answer is
+  // then 0. 64 entries per mask word; hulls have at most kHullScanLimit (64) vertices, so a
+  // scan takes one word, as EPA's closest-face search does up to 64 faces.
+  const std::uint64_t found = extreme == kStart ? 0 : ~std::uint64_t(0);
+  for (int base = 0;; base += 64) {
+    const int end = count < base + 64 ? count : base + 64;
+    std::uint64_t equal = 0;
+    for (int j = base; j < end; j += 8)
+      equal |= std::uint64_t(_mm512_cmp_pd_mask(values.at8(j, dx, dy, dz), best, _CMP_EQ_OQ))
+               << (j - base);
+    equal &= found;
+    if (equal != 0 || end == count)
+      return equal != 0 ? base + std::countr_zero(equal) : 0;
   }
-  __m256d value = best[0];
-  __m256d at = best_index[0];
-  keep_better4(value, at, best[1], best_index[1]);
-  keep_better4(value, at, _mm256_permute2f128_pd(value, value, 0x01),
-               _mm256_permute2f128_pd(at, at, 0x01));
-  keep_better4(value, at, _mm256_permute_pd(value, 0x5), _mm256_permute_pd(at, 0x5));
-  largest = _mm256_cvtsd_f64(value);
-  return int(_mm256_cvtsd_f64(at));
+}
+
+template <bool kLargest>
+__attribute__((target("avx2"), always_inline)) inline __m256d extreme4(__m256d value,
+                                                                       __m256d accumulator) {
+  return kLargest ? _mm256_max_pd(value, accumulator) : _mm256_min_pd(value, accumulator);
+}
+
+// first_extreme8_upto64 with four lanes.
+template <bool kLargest, class Values>
+__attribute__((target("avx2"), always_inline)) inline int first_extreme4_upto64(
+    const Values& values, __m256d dx, __m256d dy, __m256d dz, Real& extreme) {
+  constexpr Real kStart = kLargest ? kLowest : kHighest;
+  const __m256d start = _mm256_set1_pd(kStart);
+  const int count = values.count();
+  __m256d block[16];
+#pragma GCC unroll 16
+  for (int k = 0; k < 16; ++k)
+    block[k] = 4 * k < count ? values.at4(4 * k, dx, dy, dz) : start;
+  __m256d even = extreme4<kLargest>(block[0], start);
+  __m256d odd = extreme4<kLargest>(block[1], start);
+#pragma GCC unroll 7
+  for (int k = 2; k < 16; k += 2) {
+    even = extreme4<kLargest>(block[k], even);
+    odd = extreme4<kLargest>(block[k + 1], odd);
+  }
+  __m256d best = extreme4<kLargest>(odd, even);
+  best = extreme4<kLargest>(_mm256_permute2f128_pd(best, best, 0x01), best);
+  best = extreme4<kLargest>(_mm256_permute_pd(best, 0x5), best);
+  extreme = _mm256_cvtsd_f64(best);
+  std::uint64_t equal = 0;
+#pragma GCC unroll 16
+  for (int k = 0; k < 16; ++k)
+    equal |= std::uint64_t(_mm256_movemask_pd(_mm256_cmp_pd(block[k], best, _CMP_EQ_OQ)))
+             << (4 * k);
+  equal &= extreme == kStart ? 0 : ~std::uint64_t(0);
+  return equal != 0 ? std::countr_zero(equal) : 0;
+}
+
+template <bool kLargest, class Values>
+__attribute__((target("avx2"), always_inline)) inline int first_extreme4(const Values& values,
+                                                                         Real& extreme) {
+  constexpr Real kStart = kLargest ? kLowest : kHighest;
+  const __m256d dx = _mm256_set1_pd(values.dx());
+  const __m256d dy = _mm256_set1_pd(values.dy());
+  const __m256d dz = _mm256_set1_pd(values.dz());
+  const int count = values.count();  // a multiple of 8
+  if (count <= 64)
+    return first_extreme4_upto64<kLargest>(values, dx, dy, dz, extreme);
+  __m256d best0 = _mm256_set1_pd(kStart);
+  __m256d best1 = best0;
+  for (int i = 0; i < count; i += 8) {
+    best0 = extreme4<kLargest>(values.at4(i, dx, dy, dz), best0);
+    best1 = extreme4<kLargest>(values.at4(i + 4, dx, dy, dz), best1);
+  }
+  __m256d best = extreme4<kLargest>(best1, best0);
+  best = extreme4<kLargest>(_mm256_permute2f128_pd(best, best, 0x01), best);
+  best = extreme4<kLargest>(_mm256_permute_pd(best, 0x5), best);
+  extreme = _mm256_cvtsd_f64(best);
+  const std::uint64_t found = extreme == kStart ? 0 : ~std::uint64_t(0);
+  for (int base = 0;; base += 64) {
+    const int end = count < base + 64 ? count : base + 64;
+    std::uint64_t equal = 0;
+    for (int j = base; j < end; j += 4)
+      equal |= std::uint64_t(
+                   _mm256_movemask_pd(_mm256_cmp_pd(values.at4(j, dx, dy, dz), best, _CMP_EQ_OQ)))
+               << (j - base);
+    equal &= found;
+    if (equal != 0 || end == count)
+      return equal != 0 ? base + std::countr_zero(equal) : 0;
+  }
 }
 
 __attribute__((target("avx512f"), always_inline)) inline int scan8(const HullScanArrays& h,
                                                                    const Vec3& d) {
   Real largest;
-  return first_largest8(DotValues{h, d}, largest);
+  return first_extreme8<true>(DotValues{h, d}, largest);
 }
 
 __attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanArrays& h,
                                                                 const Vec3& d) {
   Real largest;
-  return first_largest4(DotValues{h, d}, largest);
+  return first_extreme4<true>(DotValues{h, d}, largest);
 }
 
-// The first smallest entry is the first largest negated one; +inf (a free slot) becomes -inf,
-// which is never "greater", and -0 and +0 both become +0 and tie, as they compare equal.
+// -1 when nothing is below +inf (every slot free, or NaN).
 __attribute__((target("avx512f"), always_inline)) inline int smallest8(const Real* values,
                                                                        int padded_count) {
-  Real largest;
-  const int at = first_largest8(NegatedValues{values, padded_count}, largest);
-  return largest > kLowest ? at : -1;
+  Real smallest;
+  const int at = first_extreme8<false>(ArrayValues{values, padded_count}, smallest);
+  return smallest < kHighest ? at : -1;
 }
 
 __attribute__((target("avx2"), always_inline)) inline int smallest4(const Real* values,
                                                                     int padded_count) {
-  Real largest;
-  const int at = first_largest4(NegatedValues{values, padded_count}, largest);
-  return largest > kLowest ? at : -1;
+  Real smallest;
+  const int at = first_extreme4<false>(ArrayValues{values, padded_count}, smallest);
+  return smallest < kHighest ? at : -1;
 }
 
 // One scan, and two in one body: GJK and EPA need the support points of A and B together,

@@ -144,7 +144,8 @@ TEST(HullSupportScan, FirstSmallestMatchesBruteForceWithGapsTiesAndNan) {
   std::uniform_int_distribution<int> kind(0, 9);
   const int arrays = scaled(3000);
   for (int s = 0; s < arrays; ++s) {
-    const int padded = kHullScanWidth * (1 + s % 12);
+    // Up to 66 blocks, past the 64 entries of one mask word several times over.
+    const int padded = kHullScanWidth * (1 + s % 66);
     std::vector<Real> values(static_cast<std::size_t>(padded));
     for (Real& v : values) {
       const int k = kind(rng);
