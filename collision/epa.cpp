@@ -700,7 +700,7 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
         poly.link(previous, 1, slot, 2);
       }
     }
-    if (!broken && in_order &&
+    if (!broken && horizon_count > 0 && in_order &&
         poly.face[std::size_t(fan[std::size_t(horizon_count - 1)])].v[1] ==
             poly.face[std::size_t(fan[0])].v[0]) {
       poly.link(fan[std::size_t(horizon_count - 1)], 1, fan[0], 2);

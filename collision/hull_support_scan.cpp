@@ -8,7 +8,9 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -23,26 +25,27 @@ constexpr Real kHighest = std::numeric_limits<Real>::infinity();
 // which leaves the extreme in every lane; then each block is compared with it for equality and
 // the first set bit of the combined masks is the answer. Against carrying (value, index) pairs
 // through the reduction this takes one instruction per block instead of three, and the merges
-// of the lanes are a shuffle and a max each; the comparisons recompute each block's values, off
-// the chain. MAX and MIN return their second operand when either is NaN, and the accumulator
-// (never NaN) is always the second: a NaN never enters, and never equals the extreme. -0 and +0
-// compare equal, so they tie and the first wins, as in the portable loops.
+// of the lanes are a shuffle and a max each. Up to 64 entries the blocks stay in registers;
+// past that (EPA's closest face on a big polytope) the comparisons recompute them. MAX and MIN
+// return their second operand when either is NaN, and the accumulator (never NaN) is always the
+// second: a NaN never enters, and never equals the extreme. -0 and +0 compare equal, so they tie
+// and the first wins, as in the portable loops.
 
 // The values of eight (four) consecutive entries: v . d of vertices, or an array's entries.
 struct DotValues {
   const HullScanArrays& h;
   const Vec3& d;
-  __attribute__((target("avx512f"), always_inline)) __m512d at8(int i, __m512d dx, __m512d dy,
-                                                                __m512d dz) const {
-    const __m512d xy = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(h.x + i), dx),
-                                     _mm512_mul_pd(_mm512_loadu_pd(h.y + i), dy));
-    return _mm512_add_pd(xy, _mm512_mul_pd(_mm512_loadu_pd(h.z + i), dz));
+  __attribute__((target("avx512f,fma"), always_inline)) __m512d at8(int i, __m512d dx, __m512d dy,
+                                                                    __m512d dz) const {
+    const __m512d xy =
+        _mm512_fmadd_pd(_mm512_loadu_pd(h.y + i), dy, _mm512_mul_pd(_mm512_loadu_pd(h.x + i), dx));
+    return _mm512_fmadd_pd(_mm512_loadu_pd(h.z + i), dz, xy);
   }
-  __attribute__((target("avx2"), always_inline)) __m256d at4(int i, __m256d dx, __m256d dy,
-                                                             __m256d dz) const {
-    const __m256d xy = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(h.x + i), dx),
-                                     _mm256_mul_pd(_mm256_loadu_pd(h.y + i), dy));
-    return _mm256_add_pd(xy, _mm256_mul_pd(_mm256_loadu_pd(h.z + i), dz));
+  __attribute__((target("avx2,fma"), always_inline)) __m256d at4(int i, __m256d dx, __m256d dy,
+                                                                 __m256d dz) const {
+    const __m256d xy =
+        _mm256_fmadd_pd(_mm256_loadu_pd(h.y + i), dy, _mm256_mul_pd(_mm256_loadu_pd(h.x + i), dx));
+    return _mm256_fmadd_pd(_mm256_loadu_pd(h.z + i), dz, xy);
   }
   // Each coordinate read on its own: a copy of the Vec3 was loaded as one pair, which waits
   // for the stores when the caller has just written the direction coordinate by coordinate.
@@ -55,12 +58,12 @@ struct DotValues {
 struct ArrayValues {
   const Real* values;
   int padded_count;
-  __attribute__((target("avx512f"), always_inline)) __m512d at8(int i, __m512d, __m512d,
-                                                                __m512d) const {
+  __attribute__((target("avx512f,fma"), always_inline)) __m512d at8(int i, __m512d, __m512d,
+                                                                    __m512d) const {
     return _mm512_loadu_pd(values + i);
   }
-  __attribute__((target("avx2"), always_inline)) __m256d at4(int i, __m256d, __m256d,
-                                                             __m256d) const {
+  __attribute__((target("avx2,fma"), always_inline)) __m256d at4(int i, __m256d, __m256d,
+                                                                 __m256d) const {
     return _mm256_loadu_pd(values + i);
   }
   Real dx() const { return 0; }
@@ -71,57 +74,61 @@ struct ArrayValues {
 
 // The extreme: the largest (kLargest) or the smallest entry.
 template <bool kLargest>
-__attribute__((target("avx512f"), always_inline)) inline __m512d extreme8(__m512d value,
-                                                                          __m512d accumulator) {
+__attribute__((target("avx512f,fma"), always_inline)) inline __m512d extreme8(__m512d value,
+                                                                              __m512d accumulator) {
   return kLargest ? _mm512_max_pd(value, accumulator) : _mm512_min_pd(value, accumulator);
 }
 
 // first_extreme8 on at most 64 entries (every scanned hull, and EPA's closest face up to 64
-// faces), unrolled: the blocks' values stay in registers for the comparisons, blocks past the
-// count hold the start value (which matches only when nothing was found, and that is masked),
-// and the masks are combined with constant shifts. No branch depends on the data.
+// faces), unrolled: the blocks' values stay in registers for the comparisons, and the masks are
+// combined with constant shifts. No branch depends on the data (it would mispredict, and it
+// kept the two scans of a pair from overlapping). An extreme still at the start value means
+// nothing was found.
 template <bool kLargest, class Values>
-__attribute__((target("avx512f"), always_inline)) inline int first_extreme8_upto64(
-    const Values& values, __m512d dx, __m512d dy, __m512d dz, Real& extreme) {
+__attribute__((target("avx512f,fma"), always_inline)) inline int first_extreme8_upto64(
+    const Values& values, __m512d dx, __m512d dy, __m512d dz) {
   constexpr Real kStart = kLargest ? kLowest : kHighest;
   const __m512d start = _mm512_set1_pd(kStart);
   const int count = values.count();
+  // Blocks past the count are skipped by branches on the count alone (the same on every call
+  // for a hull, so predicted): the zmm instructions, which only two ports run, bound the scan.
   __m512d block[8];
 #pragma GCC unroll 8
   for (int k = 0; k < 8; ++k)
     block[k] = 8 * k < count ? values.at8(8 * k, dx, dy, dz) : start;
   __m512d even = extreme8<kLargest>(block[0], start);
-  __m512d odd = extreme8<kLargest>(block[1], start);
+  __m512d odd = count > 8 ? extreme8<kLargest>(block[1], start) : start;
 #pragma GCC unroll 3
   for (int k = 2; k < 8; k += 2) {
-    even = extreme8<kLargest>(block[k], even);
-    odd = extreme8<kLargest>(block[k + 1], odd);
+    if (8 * k < count)
+      even = extreme8<kLargest>(block[k], even);
+    if (8 * k + 8 < count)
+      odd = extreme8<kLargest>(block[k + 1], odd);
   }
   __m512d best = extreme8<kLargest>(odd, even);
   best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0x4E), best);
   best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0xB1), best);
   best = extreme8<kLargest>(_mm512_permute_pd(best, 0x55), best);
-  extreme = _mm512_cvtsd_f64(best);
   std::uint64_t equal = 0;
 #pragma GCC unroll 8
   for (int k = 0; k < 8; ++k)
-    equal |= std::uint64_t(_mm512_cmp_pd_mask(block[k], best, _CMP_EQ_OQ)) << (8 * k);
-  equal &= extreme == kStart ? 0 : ~std::uint64_t(0);
-  return equal != 0 ? std::countr_zero(equal) : 0;
+    if (8 * k < count)
+      equal |= std::uint64_t(_mm512_cmp_pd_mask(block[k], best, _CMP_EQ_OQ)) << (8 * k);
+  return _mm512_cvtsd_f64(best) != kStart ? std::countr_zero(equal) : -1;
 }
 
-// The first index of the extreme value, with the extreme in `extreme` (-inf for the largest,
-// +inf for the smallest, when every entry is NaN or that infinity; the index is then 0).
+// The first index of the extreme value, or -1 when nothing is above -inf (for the largest) or
+// below +inf (for the smallest): every entry NaN or that infinity.
 template <bool kLargest, class Values>
-__attribute__((target("avx512f"), always_inline)) inline int first_extreme8(const Values& values,
-                                                                            Real& extreme) {
+__attribute__((target("avx512f,fma"), always_inline)) inline int first_extreme8(
+    const Values& values) {
   constexpr Real kStart = kLargest ? kLowest : kHighest;
   const __m512d dx = _mm512_set1_pd(values.dx());
   const __m512d dy = _mm512_set1_pd(values.dy());
   const __m512d dz = _mm512_set1_pd(values.dz());
   const int count = values.count();
   if (count <= 64)
-    return first_extreme8_upto64<kLargest>(values, dx, dy, dz, extreme);
+    return first_extreme8_upto64<kLargest>(values, dx, dy, dz);
   __m512d best0 = _mm512_set1_pd(kStart);
   __m512d best1 = best0;
   int i = 0;
@@ -135,34 +142,33 @@ __attribute__((target("avx512f"), always_inline)) inline int first_extreme8(cons
   best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0x4E), best);
   best = extreme8<kLargest>(_mm512_shuffle_f64x2(best, best, 0xB1), best);
   best = extreme8<kLargest>(_mm512_permute_pd(best, 0x55), best);
-  extreme = _mm512_cvtsd_f64(best);
-  // No branch on the data from here (it would mispredict, and it kept the two scans of a pair
-  // from overlapping): an extreme still at the start value matches nothing, and the answer is
-  // then 0. 64 entries per mask word; hulls have at most kHullScanLimit (64) vertices, so a
-  // scan takes one word, as EPA's closest-face search does up to 64 faces.
-  const std::uint64_t found = extreme == kStart ? 0 : ~std::uint64_t(0);
+  // Past 64 entries (EPA's closest face on a big polytope): the first 64-entry word that holds
+  // the extreme.
+  if (_mm512_cvtsd_f64(best) == kStart)
+    return -1;
   for (int base = 0;; base += 64) {
     const int end = count < base + 64 ? count : base + 64;
     std::uint64_t equal = 0;
     for (int j = base; j < end; j += 8)
       equal |= std::uint64_t(_mm512_cmp_pd_mask(values.at8(j, dx, dy, dz), best, _CMP_EQ_OQ))
                << (j - base);
-    equal &= found;
     if (equal != 0 || end == count)
-      return equal != 0 ? base + std::countr_zero(equal) : 0;
+      return equal != 0 ? base + std::countr_zero(equal) : -1;
   }
 }
 
 template <bool kLargest>
-__attribute__((target("avx2"), always_inline)) inline __m256d extreme4(__m256d value,
-                                                                       __m256d accumulator) {
+__attribute__((target("avx2,fma"), always_inline)) inline __m256d extreme4(__m256d value,
+                                                                           __m256d accumulator) {
   return kLargest ? _mm256_max_pd(value, accumulator) : _mm256_min_pd(value, accumulator);
 }
 
-// first_extreme8_upto64 with four lanes.
+// first_extreme8_upto64 with four lanes, on the doubles themselves (AVX2 has no 64-bit integer
+// max or min): MAX and MIN return their second operand when either is NaN, and the accumulator
+// (never NaN) is always the second, so a NaN never enters.
 template <bool kLargest, class Values>
-__attribute__((target("avx2"), always_inline)) inline int first_extreme4_upto64(
-    const Values& values, __m256d dx, __m256d dy, __m256d dz, Real& extreme) {
+__attribute__((target("avx2,fma"), always_inline)) inline int first_extreme4_upto64(
+    const Values& values, __m256d dx, __m256d dy, __m256d dz) {
   constexpr Real kStart = kLargest ? kLowest : kHighest;
   const __m256d start = _mm256_set1_pd(kStart);
   const int count = values.count();
@@ -180,26 +186,23 @@ __attribute__((target("avx2"), always_inline)) inline int first_extreme4_upto64(
   __m256d best = extreme4<kLargest>(odd, even);
   best = extreme4<kLargest>(_mm256_permute2f128_pd(best, best, 0x01), best);
   best = extreme4<kLargest>(_mm256_permute_pd(best, 0x5), best);
-  extreme = _mm256_cvtsd_f64(best);
   std::uint64_t equal = 0;
 #pragma GCC unroll 16
   for (int k = 0; k < 16; ++k)
     equal |= std::uint64_t(_mm256_movemask_pd(_mm256_cmp_pd(block[k], best, _CMP_EQ_OQ)))
              << (4 * k);
-  equal &= extreme == kStart ? 0 : ~std::uint64_t(0);
-  return equal != 0 ? std::countr_zero(equal) : 0;
+  return _mm256_cvtsd_f64(best) != kStart ? std::countr_zero(equal) : -1;
 }
 
 template <bool kLargest, class Values>
-__attribute__((target("avx2"), always_inline)) inline int first_extreme4(const Values& values,
-                                                                         Real& extreme) {
+__attribute__((target("avx2,fma"), always_inline)) inline int first_extreme4(const Values& values) {
   constexpr Real kStart = kLargest ? kLowest : kHighest;
   const __m256d dx = _mm256_set1_pd(values.dx());
   const __m256d dy = _mm256_set1_pd(values.dy());
   const __m256d dz = _mm256_set1_pd(values.dz());
   const int count = values.count();  // a multiple of 8
   if (count <= 64)
-    return first_extreme4_upto64<kLargest>(values, dx, dy, dz, extreme);
+    return first_extreme4_upto64<kLargest>(values, dx, dy, dz);
   __m256d best0 = _mm256_set1_pd(kStart);
   __m256d best1 = best0;
   for (int i = 0; i < count; i += 8) {
@@ -209,8 +212,8 @@ __attribute__((target("avx2"), always_inline)) inline int first_extreme4(const V
   __m256d best = extreme4<kLargest>(best1, best0);
   best = extreme4<kLargest>(_mm256_permute2f128_pd(best, best, 0x01), best);
   best = extreme4<kLargest>(_mm256_permute_pd(best, 0x5), best);
-  extreme = _mm256_cvtsd_f64(best);
-  const std::uint64_t found = extreme == kStart ? 0 : ~std::uint64_t(0);
+  if (_mm256_cvtsd_f64(best) == kStart)
+    return -1;
   for (int base = 0;; base += 64) {
     const int end = count < base + 64 ? count : base + 64;
     std::uint64_t equal = 0;
@@ -218,60 +221,56 @@ __attribute__((target("avx2"), always_inline)) inline int first_extreme4(const V
       equal |= std::uint64_t(
                    _mm256_movemask_pd(_mm256_cmp_pd(values.at4(j, dx, dy, dz), best, _CMP_EQ_OQ)))
                << (j - base);
-    equal &= found;
     if (equal != 0 || end == count)
-      return equal != 0 ? base + std::countr_zero(equal) : 0;
+      return equal != 0 ? base + std::countr_zero(equal) : -1;
   }
 }
 
-__attribute__((target("avx512f"), always_inline)) inline int scan8(const HullScanArrays& h,
-                                                                   const Vec3& d) {
-  Real largest;
-  return first_extreme8<true>(DotValues{h, d}, largest);
+// 0 when nothing is above -inf.
+__attribute__((target("avx512f,fma"), always_inline)) inline int scan8(const HullScanArrays& h,
+                                                                       const Vec3& d) {
+  return std::max(first_extreme8<true>(DotValues{h, d}), 0);
 }
 
-__attribute__((target("avx2"), always_inline)) inline int scan4(const HullScanArrays& h,
-                                                                const Vec3& d) {
-  Real largest;
-  return first_extreme4<true>(DotValues{h, d}, largest);
+__attribute__((target("avx2,fma"), always_inline)) inline int scan4(const HullScanArrays& h,
+                                                                    const Vec3& d) {
+  return std::max(first_extreme4<true>(DotValues{h, d}), 0);
 }
 
 // -1 when nothing is below +inf (every slot free, or NaN).
-__attribute__((target("avx512f"), always_inline)) inline int smallest8(const Real* values,
-                                                                       int padded_count) {
-  Real smallest;
-  const int at = first_extreme8<false>(ArrayValues{values, padded_count}, smallest);
-  return smallest < kHighest ? at : -1;
+__attribute__((target("avx512f,fma"), always_inline)) inline int smallest8(const Real* values,
+                                                                           int padded_count) {
+  return first_extreme8<false>(ArrayValues{values, padded_count});
 }
 
-__attribute__((target("avx2"), always_inline)) inline int smallest4(const Real* values,
-                                                                    int padded_count) {
-  Real smallest;
-  const int at = first_extreme4<false>(ArrayValues{values, padded_count}, smallest);
-  return smallest < kHighest ? at : -1;
+__attribute__((target("avx2,fma"), always_inline)) inline int smallest4(const Real* values,
+                                                                        int padded_count) {
+  return first_extreme4<false>(ArrayValues{values, padded_count});
 }
 
 // One scan, and two in one body: GJK and EPA need the support points of A and B together,
 // and the two independent chains interleave.
-__attribute__((target("avx512f"))) int scan(const HullScanArrays& h, const Vec3& d) {
+__attribute__((target("avx512f,fma"))) int scan(const HullScanArrays& h, const Vec3& d) {
   return scan8(h, d);
 }
-__attribute__((target("avx512f"))) SupportPair scan_pair(const HullScanArrays& a, const Vec3& da,
-                                                         const HullScanArrays& b, const Vec3& db) {
+__attribute__((target("avx512f,fma"))) SupportPair scan_pair(const HullScanArrays& a,
+                                                             const Vec3& da,
+                                                             const HullScanArrays& b,
+                                                             const Vec3& db) {
   return {scan8(a, da), scan8(b, db)};
 }
-__attribute__((target("avx2"))) int scan(const HullScanArrays& h, const Vec3& d) {
+__attribute__((target("avx2,fma"))) int scan(const HullScanArrays& h, const Vec3& d) {
   return scan4(h, d);
 }
-__attribute__((target("avx2"))) SupportPair scan_pair(const HullScanArrays& a, const Vec3& da,
-                                                      const HullScanArrays& b, const Vec3& db) {
+__attribute__((target("avx2,fma"))) SupportPair scan_pair(const HullScanArrays& a, const Vec3& da,
+                                                          const HullScanArrays& b, const Vec3& db) {
   return {scan4(a, da), scan4(b, db)};
 }
 
-__attribute__((target("avx512f"))) int smallest(const Real* values, int padded_count) {
+__attribute__((target("avx512f,fma"))) int smallest(const Real* values, int padded_count) {
   return smallest8(values, padded_count);
 }
-__attribute__((target("avx2"))) int smallest(const Real* values, int padded_count) {
+__attribute__((target("avx2,fma"))) int smallest(const Real* values, int padded_count) {
   return smallest4(values, padded_count);
 }
 
@@ -281,16 +280,17 @@ __attribute__((target("avx2"))) int smallest(const Real* values, int padded_coun
 // tests.
 namespace detail {
 
-__attribute__((target("avx512f"))) int scan_support_avx512(const HullScanArrays& h, const Vec3& d) {
+__attribute__((target("avx512f,fma"))) int scan_support_avx512(const HullScanArrays& h,
+                                                               const Vec3& d) {
   return scan8(h, d);
 }
-__attribute__((target("avx2"))) int scan_support_avx2(const HullScanArrays& h, const Vec3& d) {
+__attribute__((target("avx2,fma"))) int scan_support_avx2(const HullScanArrays& h, const Vec3& d) {
   return scan4(h, d);
 }
-__attribute__((target("avx512f"))) int first_smallest_avx512(const Real* values, int count) {
+__attribute__((target("avx512f,fma"))) int first_smallest_avx512(const Real* values, int count) {
   return smallest8(values, count);
 }
-__attribute__((target("avx2"))) int first_smallest_avx2(const Real* values, int count) {
+__attribute__((target("avx2,fma"))) int first_smallest_avx2(const Real* values, int count) {
   return smallest4(values, count);
 }
 
@@ -332,7 +332,7 @@ int scan_support_portable(const HullScanArrays& h, const Vec3& d) {
   Real best = kLowest;
   int best_index = 0;
   for (int i = 0; i < h.padded_count; ++i) {
-    const Real value = (h.x[i] * d.x() + h.y[i] * d.y()) + h.z[i] * d.z();
+    const Real value = std::fma(h.z[i], d.z(), std::fma(h.y[i], d.y(), h.x[i] * d.x()));
     if (value > best) {
       best = value;
       best_index = i;

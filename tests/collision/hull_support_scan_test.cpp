@@ -39,14 +39,14 @@ struct Arrays {
   }
 };
 
-// The contract, written independently: values as (x dx + y dy) + z dz, the first index of
+// The contract, written independently: values as fma(z, dz, fma(y, dy, x dx)), the first index of
 // the largest, NaN never wins, 0 when nothing is above -inf.
 int first_largest(const std::vector<Vec3>& points, const Vec3& d) {
   int best = 0;
   Real best_value = -kInf;
   for (int i = 0; i < int(points.size()); ++i) {
     const Vec3& p = points[std::size_t(i)];
-    const Real value = (p.x() * d.x() + p.y() * d.y()) + p.z() * d.z();
+    const Real value = std::fma(p.z(), d.z(), std::fma(p.y(), d.y(), p.x() * d.x()));
     if (value > best_value) {
       best_value = value;
       best = i;
@@ -59,10 +59,10 @@ int first_largest(const std::vector<Vec3>& points, const Vec3& d) {
 void expect_every_version(const HullScanArrays& h, const Vec3& d, int expected) {
   EXPECT_EQ(scan_support(h, d), expected);
   EXPECT_EQ(scan_support_portable(h, d), expected);
-  if (__builtin_cpu_supports("avx512f")) {
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("fma")) {
     EXPECT_EQ(detail::scan_support_avx512(h, d), expected);
   }
-  if (__builtin_cpu_supports("avx2")) {
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
     EXPECT_EQ(detail::scan_support_avx2(h, d), expected);
   }
   const SupportPair pair = scan_support_pair(h, d, h, -d);
@@ -162,10 +162,10 @@ TEST(HullSupportScan, FirstSmallestMatchesBruteForceWithGapsTiesAndNan) {
     const int expected = first_smallest_reference(values);
     EXPECT_EQ(first_smallest(values.data(), padded), expected);
     EXPECT_EQ(first_smallest_portable(values.data(), padded), expected);
-    if (__builtin_cpu_supports("avx512f")) {
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("fma")) {
       EXPECT_EQ(detail::first_smallest_avx512(values.data(), padded), expected);
     }
-    if (__builtin_cpu_supports("avx2")) {
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
       EXPECT_EQ(detail::first_smallest_avx2(values.data(), padded), expected);
     }
   }
