@@ -608,8 +608,12 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
     }
     return upper;
   };
+  // The closest face: searched over the whole polytope once; after that each iteration takes
+  // the better of the closest face the walk kept (searched before the fan is written, so the
+  // search does not wait for the fan) and the closest face of the fan (compared as it is made).
+  // Ties go to the lower slot, as in one search over all faces, so the choice is the same.
+  closest = poly.closest_face();
   for (; iteration < settings.max_iterations; ++iteration) {
-    closest = poly.closest_face();
     if (closest < 0)
       break;
     const Face& best = poly.face[std::size_t(closest)];
@@ -677,6 +681,9 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
         horizon[std::size_t(horizon_count++)] = entry;
       }
     }
+    // Over the kept faces only: the removed ones are marked free, and the fan's slots (reused
+    // or new) are written below, after this search in program order.
+    closest = poly.closest_face();
     // The fan: face h joins horizon edge h (reversed in the kept face) to w. Its edge 0 borders
     // the kept face, edge 1 the next fan face and edge 2 the previous one. The walk gives the
     // horizon as a loop in order, so each face is joined to the previous one as it is made.
@@ -693,6 +700,10 @@ EpaResult epa(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& g
         break;
       }
       fan[std::size_t(h)] = slot;
+      const Real key = poly.distance[std::size_t(slot)];
+      if (key < kInfinity && (closest < 0 || key < poly.distance[std::size_t(closest)] ||
+                              (key == poly.distance[std::size_t(closest)] && slot < closest)))
+        closest = slot;
       poly.link(slot, 0, kept.face, kept.edge);
       if (h > 0) {
         const int previous = fan[std::size_t(h - 1)];
