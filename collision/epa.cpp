@@ -185,9 +185,8 @@ struct Polytope {
     return {normal_x[at], normal_y[at], normal_z[at]};
   }
 
-  // In scalars: from the Vec3, GCC loaded normal_x[f] and normal_x[f + 1] as one pair, and
-  // the face is usually one the last fan has just written coordinate by coordinate, so the
-  // load waited for the stores to retire (a failed store-to-load forwarding).
+  // |n| of face f, read coordinate by coordinate: through a Vec3, GCC loaded normal_x[f] and
+  // normal_x[f + 1] as one pair, which waits when the fan has just written them one by one.
   Real normal_length(int f) const {
     const std::size_t at = std::size_t(f);
     const Real x = normal_x[at], y = normal_y[at], z = normal_z[at];
@@ -415,7 +414,7 @@ __attribute__((always_inline)) inline Vertex support_vertex(detail::PairInA& pai
   if (pair.b_placed) {
     const SupportPair i = scan_support_pair(pair.a_scan, d, pair.b_scan, -d);
     // Coordinate by coordinate: built as Eigen vectors, GCC stored the loaded scalars and read
-    // them back as pairs, a failed store-to-load forwarding that cost a fifth of EPA's time.
+    // them back as pairs, a failed store-to-load forwarding that cost 5% of a GJK+EPA query.
     const std::size_t ia = std::size_t(i.a);
     const std::size_t ib = std::size_t(i.b);
     const Real ax = pair.a_scan.x[ia], ay = pair.a_scan.y[ia], az = pair.a_scan.z[ia];
