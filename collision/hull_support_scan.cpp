@@ -163,9 +163,8 @@ __attribute__((target("avx2,fma"), always_inline)) inline __m256d extreme4(__m25
   return kLargest ? _mm256_max_pd(value, accumulator) : _mm256_min_pd(value, accumulator);
 }
 
-// first_extreme8_upto64 with four lanes, on the doubles themselves (AVX2 has no 64-bit integer
-// max or min): MAX and MIN return their second operand when either is NaN, and the accumulator
-// (never NaN) is always the second, so a NaN never enters.
+// first_extreme8_upto64 with four lanes: sixteen blocks, absent ones holding the start value and
+// taking part (skipping them was measured only on the AVX-512 version, which this machine runs).
 template <bool kLargest, class Values>
 __attribute__((target("avx2,fma"), always_inline)) inline int first_extreme4_upto64(
     const Values& values, __m256d dx, __m256d dy, __m256d dz) {
