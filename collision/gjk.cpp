@@ -221,8 +221,9 @@ void apply(GjkSimplex& s, std::array<Real, 4>& lambda, const Candidate& c) {
 // For the face (p, q, r) of a tetrahedron with the fourth vertex o, and n = (q - p) x (r - p):
 // n . (0 - p) and n . (o - p), the sides of the origin and of o. In scalars: from Eigen's cross
 // product GCC wrote n's coordinates one by one and read two back as a pair before the stores
-// had retired (a failed store-to-load forwarding, a tenth of GJK's time on penetrating hulls).
-// The same operations in the same order as Eigen's, so the same bits.
+// had retired (a failed store-to-load forwarding; perf put a tenth of gjk()'s own samples on
+// the instruction after that load). The same operations in the same order as Eigen's: the same
+// bits (checked on 100,000 random pairs of hulls, boxes, cylinders, capsules and spheres).
 struct FaceSides {
   Real origin;
   Real opposite;
