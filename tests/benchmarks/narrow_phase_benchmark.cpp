@@ -1,6 +1,7 @@
 // Narrow-phase benchmark (issue 3): tumble and Bullet (float64 build) in the same binary, on the
 // same precomputed random poses, five comparisons:
-//   1. box-box manifold: tumble collide() vs btBoxBoxDetector::getClosestPoints;
+//   1. box-box manifold: tumble collide() vs btBoxBoxDetector::getClosestPoints, on deep random
+//      poses and on resting ones;
 //   2. GJK on separated boxes and 3. on separated 43-vertex hulls: tumble gjk() vs
 //      btGjkPairDetector (btVoronoiSimplexSolver, margins 0);
 //   4. GJK+EPA on penetrating 43-vertex hulls: tumble gjk()+epa() vs btGjkPairDetector with
@@ -120,6 +121,58 @@ void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
   btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
   box.setMargin(0);
   const auto p = poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1);
+  btBoxBoxDetector detector(&box, &box);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    btDiscreteCollisionDetectorInterface::ClosestPointInput input;
+    input.m_transformA = to_bullet(q.a);
+    input.m_transformB = to_bullet(q.b);
+    CountingResult result;
+    detector.getClosestPoints(input, result, nullptr);
+    benchmark::DoNotOptimize(result.points);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+// The same pair resting, as boxes in a stack or on a pallet do (the contacts a simulation mostly
+// sees, unlike the deep random poses above): B on A's top face, turned by a random angle about
+// A's z axis and tilted by up to 0.5 degrees about a random horizontal axis, its centre shifted
+// sideways by up to 0.2 m and sunk by up to 1 % of its height; A in a random orientation.
+std::vector<PosePair> resting_box_poses(std::uint64_t seed) {
+  Rng rng(seed);
+  std::uniform_real_distribution<Real> unit(-1, 1);
+  std::uniform_real_distribution<Real> sink(0, 0.01 * 2 * kBoxHalf.z());
+  std::vector<PosePair> out;
+  for (int i = 0; i < kPoses; ++i) {
+    const Quat qa = rotation(rng);
+    const Quat yaw(Eigen::AngleAxis<Real>(M_PI * unit(rng), Vec3::UnitZ()));
+    const Real tilt_direction = M_PI * unit(rng);
+    const Quat tilt(
+        Eigen::AngleAxis<Real>(0.5 * M_PI / 180 * std::abs(unit(rng)),
+                               Vec3(std::cos(tilt_direction), std::sin(tilt_direction), 0)));
+    const Vec3 offset(0.2 * unit(rng), 0.2 * unit(rng), 2 * kBoxHalf.z() - sink(rng));
+    out.push_back({{Vec3::Zero(), qa}, {qa * offset, qa * tilt * yaw}});
+  }
+  return out;
+}
+
+void BM_BoxBoxResting_Tumble(benchmark::State& state) {
+  const Shape box = Shape::box(kBoxHalf);
+  const auto p = resting_box_poses(7);
+  Manifold m;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PosePair& q = p[i++ % p.size()];
+    benchmark::DoNotOptimize(collide(box, q.a, box, q.b, 0, m));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_BoxBoxResting_Bullet(benchmark::State& state) {
+  btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
+  box.setMargin(0);
+  const auto p = resting_box_poses(7);
   btBoxBoxDetector detector(&box, &box);
   std::size_t i = 0;
   for (auto _ : state) {
@@ -466,6 +519,8 @@ void BM_HullHull43Separated_BulletSat(benchmark::State& state) {
 
 BENCHMARK(BM_BoxBoxManifold_Tumble);
 BENCHMARK(BM_BoxBoxManifold_Bullet);
+BENCHMARK(BM_BoxBoxResting_Tumble);
+BENCHMARK(BM_BoxBoxResting_Bullet);
 BENCHMARK(BM_GjkSeparatedBoxes_Tumble);
 BENCHMARK(BM_GjkSeparatedBoxes_Bullet);
 BENCHMARK(BM_GjkSeparatedHulls43_Tumble);
