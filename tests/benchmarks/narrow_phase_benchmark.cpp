@@ -105,9 +105,9 @@ struct CountingResult : btDiscreteCollisionDetectorInterface::Result {
 
 const Vec3 kBoxHalf(0.5, 0.4, 0.3);
 
-void BM_BoxBoxManifold_Tumble(benchmark::State& state) {
+// Every box-box case: collide() against btBoxBoxDetector on the same poses.
+void run_tumble_box_box(benchmark::State& state, const std::vector<PosePair>& p) {
   const Shape box = Shape::box(kBoxHalf);
-  const auto p = poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1);
   Manifold m;
   std::size_t i = 0;
   for (auto _ : state) {
@@ -117,10 +117,9 @@ void BM_BoxBoxManifold_Tumble(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
-void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
+void run_bullet_box_box(benchmark::State& state, const std::vector<PosePair>& p) {
   btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
   box.setMargin(0);
-  const auto p = poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1);
   btBoxBoxDetector detector(&box, &box);
   std::size_t i = 0;
   for (auto _ : state) {
@@ -133,6 +132,13 @@ void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
     benchmark::DoNotOptimize(result.points);
   }
   state.SetItemsProcessed(state.iterations());
+}
+
+void BM_BoxBoxManifold_Tumble(benchmark::State& state) {
+  run_tumble_box_box(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
+}
+void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
+  run_bullet_box_box(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
 }
 
 // The same pair resting, as boxes in a stack or on a pallet do (the contacts a simulation mostly
@@ -158,33 +164,10 @@ std::vector<PosePair> resting_box_poses(std::uint64_t seed) {
 }
 
 void BM_BoxBoxResting_Tumble(benchmark::State& state) {
-  const Shape box = Shape::box(kBoxHalf);
-  const auto p = resting_box_poses(7);
-  Manifold m;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const PosePair& q = p[i++ % p.size()];
-    benchmark::DoNotOptimize(collide(box, q.a, box, q.b, 0, m));
-  }
-  state.SetItemsProcessed(state.iterations());
+  run_tumble_box_box(state, resting_box_poses(7));
 }
-
 void BM_BoxBoxResting_Bullet(benchmark::State& state) {
-  btBoxShape box(btVector3(kBoxHalf.x(), kBoxHalf.y(), kBoxHalf.z()));
-  box.setMargin(0);
-  const auto p = resting_box_poses(7);
-  btBoxBoxDetector detector(&box, &box);
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const PosePair& q = p[i++ % p.size()];
-    btDiscreteCollisionDetectorInterface::ClosestPointInput input;
-    input.m_transformA = to_bullet(q.a);
-    input.m_transformB = to_bullet(q.b);
-    CountingResult result;
-    detector.getClosestPoints(input, result, nullptr);
-    benchmark::DoNotOptimize(result.points);
-  }
-  state.SetItemsProcessed(state.iterations());
+  run_bullet_box_box(state, resting_box_poses(7));
 }
 
 // ---- 2./3. GJK on separated pairs --------------------------------------------------------------
