@@ -25,6 +25,45 @@
 #include "collision/pairs/pairs.hpp"
 
 namespace tumble {
+
+namespace detail {
+
+// Whether `a` goes first in a same-type pair (declared in pairs.hpp). The shapes' dimensions
+// decide first (they never change, so the order is stable for the life of the pair); equal shapes
+// are ordered by their poses (runs_first_by_pose).
+bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
+  // Hulls are told apart by content (volume, vertex count), never by address, so the order is
+  // the same in every run.
+  const auto dimensions = [](const Shape& s) {
+    const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
+    const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
+    return std::make_tuple(s.radius, s.half_length, s.half_extents.x(), s.half_extents.y(),
+                           s.half_extents.z(), hull_volume, hull_vertices);
+  };
+  if (dimensions(a) != dimensions(b))
+    return dimensions(a) < dimensions(b);
+  return runs_first_by_pose(pose_a, pose_b);
+}
+
+// Equal shapes: by their offset along a fixed generic direction (1, sqrt2, sqrt3)/sqrt6, which no
+// axis-aligned or diagonal offset is perpendicular to, so the order of two bodies stacked, side by
+// side or in a row does not flip from noise. Exact ties fall to the pose coefficients.
+bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
+  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
+                                Real(0.70710678118654757)};
+  const Vec3 offset = pose_a.translation - pose_b.translation;
+  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
+  if (along != 0)
+    return along < 0;
+  const auto coefficients = [](const Transform& p) {
+    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
+                           p.rotation.x(), p.rotation.y(), p.rotation.z());
+  };
+  return coefficients(pose_a) <= coefficients(pose_b);
+}
+
+}  // namespace detail
+
 namespace {
 
 using detail::PairFunction;
@@ -51,41 +90,12 @@ int flipped(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   return count;
 }
 
-// Whether `a` goes first in a same-type pair. The shapes' dimensions decide first (they never
-// change, so the order is stable for the life of the pair); equal shapes are ordered by their
-// offset along a fixed generic direction (1, sqrt2, sqrt3)/sqrt6, which no axis-aligned or
-// diagonal offset is perpendicular to, so the order of two bodies stacked, side by side or in a
-// row does not flip from noise. Exact ties fall to the pose coefficients.
-bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
-  // Hulls are told apart by content (volume, vertex count), never by address, so the order is
-  // the same in every run.
-  const auto dimensions = [](const Shape& s) {
-    const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
-    const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
-    return std::make_tuple(s.radius, s.half_length, s.half_extents.x(), s.half_extents.y(),
-                           s.half_extents.z(), hull_volume, hull_vertices);
-  };
-  if (dimensions(a) != dimensions(b))
-    return dimensions(a) < dimensions(b);
-  // (1, sqrt2, sqrt3) / sqrt6
-  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
-                                Real(0.70710678118654757)};
-  const Vec3 offset = pose_a.translation - pose_b.translation;
-  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
-  if (along != 0)
-    return along < 0;
-  const auto coefficients = [](const Transform& p) {
-    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
-                           p.rotation.x(), p.rotation.y(), p.rotation.z());
-  };
-  return coefficients(pose_a) <= coefficients(pose_b);
-}
-
 template <PairFunction pair>
 int ordered(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out) {
-  return runs_first(a, pose_a, b, pose_b) ? in_pair_frame<pair>(a, pose_a, b, pose_b, margin, out)
-                                          : flipped<pair>(a, pose_a, b, pose_b, margin, out);
+  return detail::runs_first(a, pose_a, b, pose_b)
+             ? in_pair_frame<pair>(a, pose_a, b, pose_b, margin, out)
+             : flipped<pair>(a, pose_a, b, pose_b, margin, out);
 }
 
 int no_contact(const Shape&, const Transform&, const Shape&, const Transform&, Real, Manifold&) {

@@ -1,7 +1,7 @@
 // Narrow-phase benchmark (issue 3): tumble and Bullet (float64 build) in the same binary, on the
 // same precomputed random poses, five comparisons:
-//   1. box-box manifold: tumble collide() vs btBoxBoxDetector::getClosestPoints, on deep random
-//      poses and on resting ones;
+//   1. box-box manifold: tumble collide(), and the batched collide_box_pairs() over all the poses
+//      at once, vs btBoxBoxDetector::getClosestPoints, on deep random poses and on resting ones;
 //   2. GJK on separated boxes and 3. on separated 43-vertex hulls: tumble gjk() vs
 //      btGjkPairDetector (btVoronoiSimplexSolver, margins 0);
 //   4. GJK+EPA on penetrating 43-vertex hulls: tumble gjk()+epa() vs btGjkPairDetector with
@@ -29,6 +29,7 @@
 #include <random>
 #include <vector>
 
+#include "collision/box_batch.hpp"
 #include "collision/convex_hull.hpp"
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
@@ -134,11 +135,25 @@ void run_bullet_box_box(benchmark::State& state, const std::vector<PosePair>& p)
   state.SetItemsProcessed(state.iterations());
 }
 
+// The batched path: collide_box_pairs over all the poses at once, timed per pair.
+void run_tumble_box_batch(benchmark::State& state, const std::vector<PosePair>& p) {
+  std::vector<BoxPairQuery> queries;
+  for (const PosePair& q : p)
+    queries.push_back({kBoxHalf, q.a, kBoxHalf, q.b});
+  std::vector<Manifold> out(queries.size());
+  for (auto _ : state)
+    benchmark::DoNotOptimize(collide_box_pairs(queries, 0, out));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(queries.size()));
+}
+
 void BM_BoxBoxManifold_Tumble(benchmark::State& state) {
   run_tumble_box_box(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
 }
 void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
   run_bullet_box_box(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
+}
+void BM_BoxBoxManifold_TumbleBatch(benchmark::State& state) {
+  run_tumble_box_batch(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
 }
 
 // The same pair resting, as boxes in a stack or on a pallet do (the contacts a simulation mostly
@@ -168,6 +183,9 @@ void BM_BoxBoxResting_Tumble(benchmark::State& state) {
 }
 void BM_BoxBoxResting_Bullet(benchmark::State& state) {
   run_bullet_box_box(state, resting_box_poses(7));
+}
+void BM_BoxBoxResting_TumbleBatch(benchmark::State& state) {
+  run_tumble_box_batch(state, resting_box_poses(7));
 }
 
 // ---- 2./3. GJK on separated pairs --------------------------------------------------------------
@@ -502,8 +520,10 @@ void BM_HullHull43Separated_BulletSat(benchmark::State& state) {
 
 BENCHMARK(BM_BoxBoxManifold_Tumble);
 BENCHMARK(BM_BoxBoxManifold_Bullet);
+BENCHMARK(BM_BoxBoxManifold_TumbleBatch);
 BENCHMARK(BM_BoxBoxResting_Tumble);
 BENCHMARK(BM_BoxBoxResting_Bullet);
+BENCHMARK(BM_BoxBoxResting_TumbleBatch);
 BENCHMARK(BM_GjkSeparatedBoxes_Tumble);
 BENCHMARK(BM_GjkSeparatedBoxes_Bullet);
 BENCHMARK(BM_GjkSeparatedHulls43_Tumble);

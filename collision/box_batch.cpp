@@ -1,0 +1,222 @@
+// Box-box manifolds over many pairs (see box_batch.hpp): the query of pairs/box_box.cpp rewritten
+// so that eight pairs run side by side, one per lane of a vector, every choice a select.
+//
+// Per block of eight pairs: the pairs are put in collide()'s order and pair frame (scalar), one
+// straight-line pass computes every lane's answer, and a scalar pass writes the manifolds (or
+// sends a lane to collide() when the pass flags it). The pass:
+//   - the separating-axis test of Gottschalk, Lin and Manocha (1996) in A's frame, the fifteen
+//     axes and the choice among them as box_box.cpp makes it (the same formulas and preferences);
+//   - for a face axis, the overlap of the reference face and the incident face found directly
+//     (Ericson 8.3.4's Sutherland-Hodgman clip gives the same polygon; here its vertices come out
+//     as 24 fixed candidates: 4 incident corners, 16 crossings of the 4 incident edges with the 4
+//     side planes, 4 reference corners, each with a keep mask), then the four points kept by the
+//     rule of manifold_reduction.hpp (the deepest, the farthest from it, the largest triangle,
+//     the largest added area; Catto 2007, Gregorius 2015) as masked maxima over the 24 slots;
+//   - for an edge axis, the closest points of the two extreme edges (Ericson 5.1.9), clamped by
+//     selects.
+// A vector pass costs the same for every lane whichever way its pair goes, so it pays when many
+// pairs are in contact: the face path is computed for edge lanes too and thrown away.
+//
+// The lanes are GCC vector extensions of 8 doubles, compiled three times (AVX-512, AVX2 as two
+// registers per vector, the baseline as four SSE2 registers) from the same source, with the same
+// IEEE operations in the same order (-ffp-contract=off; no FMA), so every machine gives the same
+// bits. The versions differ only in speed.
+#include "collision/box_batch.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
+
+// A vector's ABI depends on the instruction set, and GCC warns about it (-Wpsabi) even for
+// functions of internal linkage; every function here that takes or returns one is inlined.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+#define TUMBLE_LANES_INLINE [[gnu::always_inline]] inline
+#define TUMBLE_LAMBDA_INLINE __attribute__((always_inline))
+
+namespace tumble {
+namespace {
+
+// The feature ids of face-contact slot `slot` (see the lanes file) as box_box.cpp names them,
+// for each reference face (axis, side) and incident face (axis, side): a table built at compile
+// time, so that writing a manifold looks them up instead of calling out of the vector code.
+struct SlotFeatures {
+  std::uint16_t reference;
+  std::uint16_t incident;
+};
+
+constexpr SlotFeatures face_slot_features(int face_axis, bool face_positive, int incident_axis,
+                                          bool incident_positive, int slot) {
+  const int u = (face_axis + 1) % 3;
+  const int v = (face_axis + 2) % 3;
+  const int face_bit = face_positive ? 1 << face_axis : 0;
+  const auto side_bit = [&](int side) {
+    const int tangent = side < 2 ? u : v;
+    return side % 2 == 0 ? 1 << tangent : 0;
+  };
+  const int a = (incident_axis + 1) % 3;
+  const int b = (incident_axis + 2) % 3;
+  constexpr std::array<int, 4> a_positive = {1, 0, 0, 1};
+  constexpr std::array<int, 4> b_positive = {1, 1, 0, 0};
+  const auto corner_bits = [&](int i) {
+    return (incident_positive ? 1 << incident_axis : 0) | (a_positive[std::size_t(i)] << a) |
+           (b_positive[std::size_t(i)] << b);
+  };
+  if (slot < 4) {
+    return {detail::feature::box_face(face_axis, face_positive),
+            detail::feature::box_vertex(corner_bits(slot))};
+  }
+  if (slot < 20) {
+    const int i = (slot - 4) / 4;
+    const int side = (slot - 4) % 4;
+    const int tangent = side < 2 ? u : v;
+    return {detail::feature::box_edge(3 - face_axis - tangent, face_bit | side_bit(side)),
+            detail::feature::box_edge(i % 2 == 0 ? a : b, corner_bits(i))};
+  }
+  constexpr std::array<int, 4> u_side = {0, 1, 1, 0};
+  constexpr std::array<int, 4> v_side = {2, 2, 3, 3};
+  const int j = slot - 20;
+  return {detail::feature::box_vertex(face_bit | side_bit(u_side[std::size_t(j)]) |
+                                      side_bit(v_side[std::size_t(j)])),
+          detail::feature::box_face(incident_axis, incident_positive)};
+}
+
+// [face axis][face positive][incident axis][incident positive][slot]
+using SlotFeatureTable =
+    std::array<std::array<std::array<std::array<std::array<SlotFeatures, 24>, 2>, 3>, 2>, 3>;
+
+constexpr SlotFeatureTable make_slot_feature_table() {
+  SlotFeatureTable table{};
+  for (int fa = 0; fa < 3; ++fa)
+    for (int fp = 0; fp < 2; ++fp)
+      for (int ia = 0; ia < 3; ++ia)
+        for (int ip = 0; ip < 2; ++ip)
+          for (int slot = 0; slot < 24; ++slot)
+            table[std::size_t(fa)][std::size_t(fp)][std::size_t(ia)][std::size_t(ip)]
+                 [std::size_t(slot)] = face_slot_features(fa, fp != 0, ia, ip != 0, slot);
+  return table;
+}
+
+constexpr SlotFeatureTable kSlotFeatures = make_slot_feature_table();
+
+// Pairs go through the lanes in chunks: the order of each pair (detail::runs_first) is found
+// before a chunk, and the pairs the lanes leave are answered by collide() after it, both outside
+// the vector code.
+constexpr int kChunk = 64;
+
+}  // namespace
+
+// Each version is the lanes file compiled for one instruction set, with vectors as wide as its
+// registers, so that GCC never splits a vector into narrower pieces through memory: 8 lanes for
+// AVX-512, 4 for AVX2, 2 (SSE2) for the baseline. The target pragma makes every function of the
+// file, the helpers included, code for that instruction set.
+namespace {
+namespace lanes8 {
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+constexpr int kLanes = 8;
+#include "collision/box_batch_lanes.inc"
+#pragma GCC pop_options
+}  // namespace lanes8
+}  // namespace
+
+namespace {
+namespace lanes4 {
+#pragma GCC push_options
+#pragma GCC target("avx2")
+constexpr int kLanes = 4;
+#include "collision/box_batch_lanes.inc"
+#pragma GCC pop_options
+}  // namespace lanes4
+}  // namespace
+
+namespace {
+namespace lanes2 {
+constexpr int kLanes = 2;
+#include "collision/box_batch_lanes.inc"
+}  // namespace lanes2
+}  // namespace
+
+namespace {
+
+using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, Real, Manifold*, int*, int&);
+
+int collide_in_chunks(std::span<const BoxPairQuery> pairs, Real margin, std::span<Manifold> out,
+                      ChunkFunction chunk) {
+  int points = 0;
+  for (std::size_t start = 0; start < pairs.size(); start += kChunk) {
+    const int count = int(std::min<std::size_t>(kChunk, pairs.size() - start));
+    const BoxPairQuery* chunk_pairs = pairs.data() + start;
+    std::array<bool, kChunk> a_first{};
+    for (int i = 0; i < count; ++i) {
+      const BoxPairQuery& q = chunk_pairs[i];
+      // detail::runs_first for two boxes: their other dimensions are all 0.
+      const auto extents = [](const Vec3& h) { return std::make_tuple(h.x(), h.y(), h.z()); };
+      a_first[std::size_t(i)] = extents(q.half_a) != extents(q.half_b)
+                                    ? extents(q.half_a) < extents(q.half_b)
+                                    : detail::runs_first_by_pose(q.pose_a, q.pose_b);
+    }
+    std::array<int, kChunk> unanswered{};
+    int unanswered_count = 0;
+    points += chunk(chunk_pairs, a_first.data(), count, margin, out.data() + start,
+                    unanswered.data(), unanswered_count);
+    for (int k = 0; k < unanswered_count; ++k) {
+      const int i = unanswered[std::size_t(k)];
+      const BoxPairQuery& q = chunk_pairs[i];
+      points += collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, margin,
+                        out[start + std::size_t(i)]);
+    }
+  }
+  return points;
+}
+
+}  // namespace
+
+namespace detail {
+
+int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, Real margin,
+                             std::span<Manifold> out) {
+  return collide_in_chunks(pairs, margin, out, lanes8::collide_chunk);
+}
+
+int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, Real margin,
+                           std::span<Manifold> out) {
+  return collide_in_chunks(pairs, margin, out, lanes4::collide_chunk);
+}
+
+int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, Real margin,
+                               std::span<Manifold> out) {
+  return collide_in_chunks(pairs, margin, out, lanes2::collide_chunk);
+}
+
+}  // namespace detail
+
+int collide_box_pairs(std::span<const BoxPairQuery> pairs, Real margin, std::span<Manifold> out) {
+  if (out.size() < pairs.size()) {
+    throw std::invalid_argument("collide_box_pairs: " + std::to_string(pairs.size()) +
+                                " pairs but room for " + std::to_string(out.size()) + " manifolds");
+  }
+  using Version = int (*)(std::span<const BoxPairQuery>, Real, std::span<Manifold>);
+  static const Version version = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f"))
+      return Version(detail::collide_box_pairs_avx512);
+    if (__builtin_cpu_supports("avx2"))
+      return Version(detail::collide_box_pairs_avx2);
+    return Version(detail::collide_box_pairs_portable);
+  }();
+  return version(pairs, margin, out);
+}
+
+}  // namespace tumble

@@ -1,0 +1,246 @@
+// The batched box-box path against collide(), the per-pair narrow phase it stands in for, on
+// 100,000 random pairs in five regimes (deep and shallow random poses, boxes resting face on face
+// with a random turn and tilt, the same exactly aligned, and all of it 1e6 m from the origin), with
+// and without a margin:
+//   - the same number of points, the same normal and the same deepest depth in every pair;
+//   - in all but a few pairs the same points with the same feature ids; where the four points are
+//     chosen among more and the choice has ties (points on an edge parallel to the line through
+//     the first two), another tied vertex may be kept: then every point must still lie on both
+//     boxes' surfaces (the point on A on A's boundary, the point on B on B's);
+// and the instruction-set versions give the same bits, non-finite poses a valid manifold, and a
+// too-small output an error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "collision/box_batch.hpp"
+#include "collision/narrow_phase.hpp"
+#include "tests/collision/oracle.hpp"
+#include "tests/property_scale.hpp"
+
+namespace tumble::testing {
+namespace {
+
+enum class Regime { deep, shallow, resting, aligned, far };
+
+std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t seed) {
+  Rng rng(seed);
+  std::vector<BoxPairQuery> pairs;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 ha(uniform(rng, 0.05, 1), uniform(rng, 0.05, 1), uniform(rng, 0.05, 1));
+    const Vec3 hb =
+        i % 4 == 0 ? ha : Vec3(uniform(rng, 0.05, 1), uniform(rng, 0.05, 1), uniform(rng, 0.05, 1));
+    Transform a{Vec3::Zero(), random_rotation(rng)};
+    Transform b;
+    const Real reach = ha.norm() + hb.norm();
+    if (regime == Regime::deep) {
+      b = {random_unit_vector(rng) * reach * uniform(rng, 0.1, 0.8), random_rotation(rng)};
+    } else if (regime == Regime::shallow) {
+      b = {random_unit_vector(rng) * reach * uniform(rng, 0.6, 1.2), random_rotation(rng)};
+    } else {
+      const bool aligned = regime == Regime::aligned;
+      const Quat turn(
+          Eigen::AngleAxis<Real>(aligned ? Real(0) : uniform(rng, -M_PI, M_PI), Vec3::UnitZ()));
+      const Quat tilt(Eigen::AngleAxis<Real>(aligned ? Real(0) : uniform(rng, 0, 0.01),
+                                             random_unit_vector(rng)));
+      const Vec3 offset(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3),
+                        ha.z() + hb.z() - uniform(rng, 0, 0.01));
+      b = {a.rotation * offset, a.rotation * tilt * turn};
+    }
+    if (regime == Regime::far) {
+      a.translation += Vec3(1e6, -1e6, 1e6);
+      b.translation += Vec3(1e6, -1e6, 1e6);
+    }
+    pairs.push_back({ha, a, hb, b});
+  }
+  return pairs;
+}
+
+Manifold collide_one(const BoxPairQuery& q, Real margin) {
+  Manifold m;
+  collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, margin, m);
+  return m;
+}
+
+// Index of the point of `m` at `position` (within `tolerance`), or -1.
+int point_at(const Manifold& m, const Vec3& position, Real tolerance) {
+  for (int p = 0; p < m.count; ++p) {
+    if ((m.points[p].position - position).norm() <= tolerance)
+      return p;
+  }
+  return -1;
+}
+
+void expect_matches_collide(Regime regime, Real margin, std::uint64_t seed) {
+  const int count = scaled(10000);
+  const std::vector<BoxPairQuery> pairs = random_pairs(regime, count, seed);
+  std::vector<Manifold> batch(pairs.size());
+  collide_box_pairs(pairs, margin, batch);
+  int contacts = 0;
+  int other_choice = 0;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    SCOPED_TRACE("pair " + std::to_string(i));
+    const BoxPairQuery& q = pairs[i];
+    const Manifold expected = collide_one(q, margin);
+    const Manifold& got = batch[i];
+    ASSERT_EQ(got.count, expected.count);
+    if (expected.count == 0)
+      continue;
+    ++contacts;
+    const Real size = q.half_a.norm() + q.half_b.norm();
+    const Real tolerance = (regime == Regime::far ? 1e-9 : 1e-12) * (1 + size);
+    EXPECT_GT(got.normal.dot(expected.normal), 1 - 1e-12);
+    Real deepest_expected = -std::numeric_limits<Real>::infinity();
+    Real deepest_got = -std::numeric_limits<Real>::infinity();
+    for (int p = 0; p < expected.count; ++p) {
+      deepest_expected = std::max(deepest_expected, expected.points[p].depth);
+      deepest_got = std::max(deepest_got, got.points[p].depth);
+    }
+    EXPECT_NEAR(deepest_got, deepest_expected, tolerance);
+    bool same_points = true;
+    for (int p = 0; p < got.count; ++p) {
+      const int match = point_at(expected, got.points[p].position, tolerance);
+      if (match < 0) {
+        same_points = false;
+        continue;
+      }
+      EXPECT_NEAR(got.points[p].depth, expected.points[match].depth, tolerance);
+      EXPECT_EQ(got.points[p].feature, expected.points[match].feature);
+    }
+    if (same_points)
+      continue;
+    ++other_choice;
+    // Another tied vertex: every point joins the two surfaces.
+    const Shape a = Shape::box(q.half_a);
+    const Shape b = Shape::box(q.half_b);
+    for (int p = 0; p < got.count; ++p) {
+      const ContactPoint& c = got.points[p];
+      EXPECT_NEAR(signed_distance_to_shape(a, q.pose_a, c.point_on_a(got.normal)), 0,
+                  1e3 * tolerance);
+      EXPECT_NEAR(signed_distance_to_shape(b, q.pose_b, c.point_on_b(got.normal)), 0,
+                  1e3 * tolerance);
+    }
+  }
+  EXPECT_GT(contacts, count / 10);
+  EXPECT_LE(other_choice, contacts / 100);
+  std::printf(
+      "[ stats    ] box batch vs collide, regime %d, margin %g: %d pairs, %d in contact, "
+      "%d with another tied choice of points\n",
+      int(regime), margin, count, contacts, other_choice);
+}
+
+TEST(BoxBatch, MatchesCollideOnDeepPoses) {
+  expect_matches_collide(Regime::deep, 0, 11);
+  expect_matches_collide(Regime::deep, 0.01, 12);
+}
+
+TEST(BoxBatch, MatchesCollideOnShallowPoses) {
+  expect_matches_collide(Regime::shallow, 0, 13);
+  expect_matches_collide(Regime::shallow, 0.01, 14);
+}
+
+TEST(BoxBatch, MatchesCollideOnRestingBoxes) {
+  expect_matches_collide(Regime::resting, 0, 15);
+  expect_matches_collide(Regime::resting, 0.01, 16);
+  expect_matches_collide(Regime::aligned, 0, 17);
+  expect_matches_collide(Regime::aligned, 0.01, 18);
+}
+
+TEST(BoxBatch, MatchesCollideFarFromTheOrigin) {
+  expect_matches_collide(Regime::far, 0, 19);
+}
+
+bool same_bits(const Manifold& a, const Manifold& b) {
+  if (a.count != b.count || std::memcmp(a.normal.data(), b.normal.data(), 3 * sizeof(Real)) != 0)
+    return false;
+  for (int p = 0; p < a.count; ++p) {
+    const ContactPoint& x = a.points[p];
+    const ContactPoint& y = b.points[p];
+    if (std::memcmp(x.position.data(), y.position.data(), 3 * sizeof(Real)) != 0 ||
+        std::memcmp(&x.depth, &y.depth, sizeof(Real)) != 0 || !(x.feature == y.feature)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
+  std::vector<BoxPairQuery> pairs;
+  for (Regime regime :
+       {Regime::deep, Regime::shallow, Regime::resting, Regime::aligned, Regime::far}) {
+    const auto some = random_pairs(regime, scaled(2000) + 3, 20 + std::uint64_t(regime));
+    pairs.insert(pairs.end(), some.begin(), some.end());
+  }
+  std::vector<Manifold> portable(pairs.size());
+  detail::collide_box_pairs_portable(pairs, 0.01, portable);
+  __builtin_cpu_init();
+  int versions = 0;
+  if (__builtin_cpu_supports("avx2")) {
+    std::vector<Manifold> avx2(pairs.size());
+    detail::collide_box_pairs_avx2(pairs, 0.01, avx2);
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      ASSERT_TRUE(same_bits(avx2[i], portable[i])) << "AVX2, pair " << i;
+    ++versions;
+  }
+  if (__builtin_cpu_supports("avx512f")) {
+    std::vector<Manifold> avx512(pairs.size());
+    detail::collide_box_pairs_avx512(pairs, 0.01, avx512);
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      ASSERT_TRUE(same_bits(avx512[i], portable[i])) << "AVX-512, pair " << i;
+    ++versions;
+  }
+  std::vector<Manifold> dispatched(pairs.size());
+  collide_box_pairs(pairs, 0.01, dispatched);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    ASSERT_TRUE(same_bits(dispatched[i], portable[i])) << "dispatched, pair " << i;
+  std::printf(
+      "[ stats    ] box batch: %zu pairs, %d vector versions besides the portable one "
+      "compared bit for bit\n",
+      pairs.size(), versions);
+}
+
+TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
+  constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
+  constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
+  const Vec3 half(0.5, 0.4, 0.3);
+  const Transform at_origin{Vec3::Zero(), Quat::Identity()};
+  const std::vector<Transform> bad = {Transform{Vec3(kNaN, 0, 0.5), Quat::Identity()},
+                                      Transform{Vec3(0, 0, kInfinity), Quat::Identity()},
+                                      Transform{Vec3(0, 0, 0.5), Quat(kNaN, 0, 0, 0)},
+                                      Transform{Vec3(0, 0, 0.5), Quat(kInfinity, 0, 1, 0)}};
+  std::vector<BoxPairQuery> pairs;
+  for (const Transform& pose : bad) {
+    pairs.push_back({half, at_origin, half, pose});
+    pairs.push_back({half, pose, half, at_origin});
+    pairs.push_back({half, at_origin, half, Transform{Vec3(0, 0, 0.5), Quat::Identity()}});
+  }
+  std::vector<Manifold> out(pairs.size());
+  collide_box_pairs(pairs, 0.01, out);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Manifold expected = collide_one(pairs[i], 0.01);
+    EXPECT_EQ(out[i].count, expected.count) << "pair " << i;
+    EXPECT_LE(out[i].count, kMaxManifoldPoints);
+    for (int p = 0; p < out[i].count; ++p) {
+      EXPECT_LT(out[i].points[p].feature.a, 26);
+      EXPECT_LT(out[i].points[p].feature.b, 26);
+    }
+  }
+}
+
+TEST(BoxBatch, AnyNumberOfPairsAndATooSmallOutput) {
+  const auto pairs = random_pairs(Regime::deep, 13, 31);
+  std::vector<Manifold> out(pairs.size());
+  collide_box_pairs(pairs, 0, out);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    EXPECT_EQ(out[i].count, collide_one(pairs[i], 0).count) << "pair " << i;
+  EXPECT_EQ(collide_box_pairs({}, 0, {}), 0);
+  std::vector<Manifold> short_out(pairs.size() - 1);
+  EXPECT_THROW(collide_box_pairs(pairs, 0, short_out), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tumble::testing
