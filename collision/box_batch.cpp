@@ -150,9 +150,9 @@ constexpr int kLanes = 2;
 
 namespace {
 
-using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, Real, Manifold*, int*, int&);
+using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, Manifold*, int*, int&);
 
-int collide_in_chunks(std::span<const BoxPairQuery> pairs, Real margin, std::span<Manifold> out,
+int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> out,
                       ChunkFunction chunk) {
   int points = 0;
   for (std::size_t start = 0; start < pairs.size(); start += kChunk) {
@@ -169,12 +169,12 @@ int collide_in_chunks(std::span<const BoxPairQuery> pairs, Real margin, std::spa
     }
     std::array<int, kChunk> unanswered{};
     int unanswered_count = 0;
-    points += chunk(chunk_pairs, a_first.data(), count, margin, out.data() + start,
-                    unanswered.data(), unanswered_count);
+    points += chunk(chunk_pairs, a_first.data(), count, out.data() + start, unanswered.data(),
+                    unanswered_count);
     for (int k = 0; k < unanswered_count; ++k) {
       const int i = unanswered[std::size_t(k)];
       const BoxPairQuery& q = chunk_pairs[i];
-      points += collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, margin,
+      points += collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, q.margin,
                         out[start + std::size_t(i)]);
     }
   }
@@ -185,29 +185,26 @@ int collide_in_chunks(std::span<const BoxPairQuery> pairs, Real margin, std::spa
 
 namespace detail {
 
-int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, Real margin,
-                             std::span<Manifold> out) {
-  return collide_in_chunks(pairs, margin, out, lanes8::collide_chunk);
+int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, std::span<Manifold> out) {
+  return collide_in_chunks(pairs, out, lanes8::collide_chunk);
 }
 
-int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, Real margin,
-                           std::span<Manifold> out) {
-  return collide_in_chunks(pairs, margin, out, lanes4::collide_chunk);
+int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, std::span<Manifold> out) {
+  return collide_in_chunks(pairs, out, lanes4::collide_chunk);
 }
 
-int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, Real margin,
-                               std::span<Manifold> out) {
-  return collide_in_chunks(pairs, margin, out, lanes2::collide_chunk);
+int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, std::span<Manifold> out) {
+  return collide_in_chunks(pairs, out, lanes2::collide_chunk);
 }
 
 }  // namespace detail
 
-int collide_box_pairs(std::span<const BoxPairQuery> pairs, Real margin, std::span<Manifold> out) {
+int collide_box_pairs(std::span<const BoxPairQuery> pairs, std::span<Manifold> out) {
   if (out.size() < pairs.size()) {
     throw std::invalid_argument("collide_box_pairs: " + std::to_string(pairs.size()) +
                                 " pairs but room for " + std::to_string(out.size()) + " manifolds");
   }
-  using Version = int (*)(std::span<const BoxPairQuery>, Real, std::span<Manifold>);
+  using Version = int (*)(std::span<const BoxPairQuery>, std::span<Manifold>);
   static const Version version = [] {
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f"))
@@ -216,7 +213,7 @@ int collide_box_pairs(std::span<const BoxPairQuery> pairs, Real margin, std::spa
       return Version(detail::collide_box_pairs_avx2);
     return Version(detail::collide_box_pairs_portable);
   }();
-  return version(pairs, margin, out);
+  return version(pairs, out);
 }
 
 }  // namespace tumble

@@ -22,21 +22,19 @@ struct BoxPairQuery {
   Transform pose_a;
   Vec3 half_b;
   Transform pose_b;
+  Real margin = 0;  // as collide()'s: points up to this far apart are kept
 };
 
 // out[i] gets the manifold of pairs[i] (out.size() >= pairs.size()); returns the total number of
 // contact points. Allocates nothing.
-int collide_box_pairs(std::span<const BoxPairQuery> pairs, Real margin, std::span<Manifold> out);
+int collide_box_pairs(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
 
 namespace detail {
 // The instruction-set versions, for tests (calling one on a CPU without its instructions is an
 // illegal instruction); collide_box_pairs runs the best the CPU has.
-int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, Real margin,
-                             std::span<Manifold> out);
-int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, Real margin,
-                           std::span<Manifold> out);
-int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, Real margin,
-                               std::span<Manifold> out);
+int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
+int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
+int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
 }  // namespace detail
 
 }  // namespace tumble

@@ -142,7 +142,7 @@ void run_tumble_box_batch(benchmark::State& state, const std::vector<PosePair>& 
     queries.push_back({kBoxHalf, q.a, kBoxHalf, q.b});
   std::vector<Manifold> out(queries.size());
   for (auto _ : state)
-    benchmark::DoNotOptimize(collide_box_pairs(queries, 0, out));
+    benchmark::DoNotOptimize(collide_box_pairs(queries, out));
   state.SetItemsProcessed(state.iterations() * std::int64_t(queries.size()));
 }
 

@@ -27,7 +27,8 @@ namespace {
 
 enum class Regime { deep, shallow, resting, aligned, far };
 
-std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t seed) {
+std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t seed,
+                                       Real margin = 0) {
   Rng rng(seed);
   std::vector<BoxPairQuery> pairs;
   for (int i = 0; i < count; ++i) {
@@ -55,14 +56,14 @@ std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t s
       a.translation += Vec3(1e6, -1e6, 1e6);
       b.translation += Vec3(1e6, -1e6, 1e6);
     }
-    pairs.push_back({ha, a, hb, b});
+    pairs.push_back({ha, a, hb, b, margin});
   }
   return pairs;
 }
 
-Manifold collide_one(const BoxPairQuery& q, Real margin) {
+Manifold collide_one(const BoxPairQuery& q) {
   Manifold m;
-  collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, margin, m);
+  collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, q.margin, m);
   return m;
 }
 
@@ -77,15 +78,15 @@ int point_at(const Manifold& m, const Vec3& position, Real tolerance) {
 
 void expect_matches_collide(Regime regime, Real margin, std::uint64_t seed) {
   const int count = scaled(10000);
-  const std::vector<BoxPairQuery> pairs = random_pairs(regime, count, seed);
+  const std::vector<BoxPairQuery> pairs = random_pairs(regime, count, seed, margin);
   std::vector<Manifold> batch(pairs.size());
-  collide_box_pairs(pairs, margin, batch);
+  collide_box_pairs(pairs, batch);
   int contacts = 0;
   int other_choice = 0;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     SCOPED_TRACE("pair " + std::to_string(i));
     const BoxPairQuery& q = pairs[i];
-    const Manifold expected = collide_one(q, margin);
+    const Manifold expected = collide_one(q);
     const Manifold& got = batch[i];
     ASSERT_EQ(got.count, expected.count);
     if (expected.count == 0)
@@ -172,31 +173,36 @@ TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
   std::vector<BoxPairQuery> pairs;
   for (Regime regime :
        {Regime::deep, Regime::shallow, Regime::resting, Regime::aligned, Regime::far}) {
-    const auto some = random_pairs(regime, scaled(2000) + 3, 20 + std::uint64_t(regime));
+    // Margins of 0 and 0.01 and, every fifth pair, one that differs pair by pair.
+    auto some = random_pairs(regime, scaled(2000) + 3, 20 + std::uint64_t(regime), 0.01);
+    for (std::size_t i = 0; i < some.size(); ++i)
+      some[i].margin = i % 5 == 0 ? Real(0.002) * Real(i % 7) : (i % 2 == 0 ? 0 : 0.01);
     pairs.insert(pairs.end(), some.begin(), some.end());
   }
   std::vector<Manifold> portable(pairs.size());
-  detail::collide_box_pairs_portable(pairs, 0.01, portable);
+  detail::collide_box_pairs_portable(pairs, portable);
   __builtin_cpu_init();
   int versions = 0;
   if (__builtin_cpu_supports("avx2")) {
     std::vector<Manifold> avx2(pairs.size());
-    detail::collide_box_pairs_avx2(pairs, 0.01, avx2);
+    detail::collide_box_pairs_avx2(pairs, avx2);
     for (std::size_t i = 0; i < pairs.size(); ++i)
       ASSERT_TRUE(same_bits(avx2[i], portable[i])) << "AVX2, pair " << i;
     ++versions;
   }
   if (__builtin_cpu_supports("avx512f")) {
     std::vector<Manifold> avx512(pairs.size());
-    detail::collide_box_pairs_avx512(pairs, 0.01, avx512);
+    detail::collide_box_pairs_avx512(pairs, avx512);
     for (std::size_t i = 0; i < pairs.size(); ++i)
       ASSERT_TRUE(same_bits(avx512[i], portable[i])) << "AVX-512, pair " << i;
     ++versions;
   }
   std::vector<Manifold> dispatched(pairs.size());
-  collide_box_pairs(pairs, 0.01, dispatched);
-  for (std::size_t i = 0; i < pairs.size(); ++i)
+  collide_box_pairs(pairs, dispatched);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
     ASSERT_TRUE(same_bits(dispatched[i], portable[i])) << "dispatched, pair " << i;
+    ASSERT_EQ(dispatched[i].count, collide_one(pairs[i]).count) << "pair " << i;
+  }
   std::printf(
       "[ stats    ] box batch: %zu pairs, %d vector versions besides the portable one "
       "compared bit for bit\n",
@@ -214,14 +220,14 @@ TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
                                       Transform{Vec3(0, 0, 0.5), Quat(kInfinity, 0, 1, 0)}};
   std::vector<BoxPairQuery> pairs;
   for (const Transform& pose : bad) {
-    pairs.push_back({half, at_origin, half, pose});
-    pairs.push_back({half, pose, half, at_origin});
-    pairs.push_back({half, at_origin, half, Transform{Vec3(0, 0, 0.5), Quat::Identity()}});
+    pairs.push_back({half, at_origin, half, pose, 0.01});
+    pairs.push_back({half, pose, half, at_origin, 0.01});
+    pairs.push_back({half, at_origin, half, Transform{Vec3(0, 0, 0.5), Quat::Identity()}, 0.01});
   }
   std::vector<Manifold> out(pairs.size());
-  collide_box_pairs(pairs, 0.01, out);
+  collide_box_pairs(pairs, out);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const Manifold expected = collide_one(pairs[i], 0.01);
+    const Manifold expected = collide_one(pairs[i]);
     EXPECT_EQ(out[i].count, expected.count) << "pair " << i;
     EXPECT_LE(out[i].count, kMaxManifoldPoints);
     for (int p = 0; p < out[i].count; ++p) {
@@ -234,12 +240,12 @@ TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
 TEST(BoxBatch, AnyNumberOfPairsAndATooSmallOutput) {
   const auto pairs = random_pairs(Regime::deep, 13, 31);
   std::vector<Manifold> out(pairs.size());
-  collide_box_pairs(pairs, 0, out);
+  collide_box_pairs(pairs, out);
   for (std::size_t i = 0; i < pairs.size(); ++i)
-    EXPECT_EQ(out[i].count, collide_one(pairs[i], 0).count) << "pair " << i;
-  EXPECT_EQ(collide_box_pairs({}, 0, {}), 0);
+    EXPECT_EQ(out[i].count, collide_one(pairs[i]).count) << "pair " << i;
+  EXPECT_EQ(collide_box_pairs({}, {}), 0);
   std::vector<Manifold> short_out(pairs.size() - 1);
-  EXPECT_THROW(collide_box_pairs(pairs, 0, short_out), std::invalid_argument);
+  EXPECT_THROW(collide_box_pairs(pairs, short_out), std::invalid_argument);
 }
 
 }  // namespace
