@@ -347,9 +347,10 @@ void World::collide_candidate_pairs() {
     const BodyDesc& b = bodies[pair.b];
     PairContact pc;
     if (is_box_pair(pair)) {
-      pc.manifold = box_manifolds_[next_box++];
-      if (pc.manifold.count == 0)
+      const Manifold& manifold = box_manifolds_[next_box++];
+      if (manifold.count == 0)
         continue;
+      pc.manifold = manifold;
     } else if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b],
                        margin_of(pair), pc.manifold) == 0) {
       continue;

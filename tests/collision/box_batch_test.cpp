@@ -1,7 +1,8 @@
 // The batched box-box path against collide(), the per-pair narrow phase it stands in for, on
-// 100,000 random pairs in five regimes (deep and shallow random poses, boxes resting face on face
-// with a random turn and tilt, the same exactly aligned, and all of it 1e6 m from the origin), with
-// and without a margin:
+// 130,000 random pairs in seven regimes (deep and shallow random poses, boxes resting face on face
+// with a random turn and tilt, the same exactly aligned, resting boxes apart by up to 1 cm within
+// a 2 cm margin, equal boxes with corners and edges on each other's, and all of it 1e6 m from the
+// origin), with and without a margin:
 //   - the same number of points, the same normal and the same deepest depth in every pair;
 //   - in all but a few pairs the same points with the same feature ids; where the four points are
 //     chosen among more and the choice has ties (points on an edge parallel to the line through
@@ -25,7 +26,7 @@
 namespace tumble::testing {
 namespace {
 
-enum class Regime { deep, shallow, resting, aligned, far };
+enum class Regime { deep, shallow, resting, aligned, far, gap, coincident };
 
 std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t seed,
                                        Real margin = 0) {
@@ -38,6 +39,19 @@ std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t s
     Transform a{Vec3::Zero(), random_rotation(rng)};
     Transform b;
     const Real reach = ha.norm() + hb.norm();
+    if (regime == Regime::coincident) {
+      // Equal boxes face on face, turned by 0 or 90 degrees, shifted along one face axis or not
+      // at all: corners on the other face's corners and edges on its edges, where the clipper
+      // finds some vertices twice and merges them.
+      const Vec3 same(ha.x(), ha.x(), ha.z());
+      const int kind = i % 4;
+      const Quat turn(Eigen::AngleAxis<Real>(kind == 3 ? Real(M_PI / 2) : Real(0), Vec3::UnitZ()));
+      const Real shift = uniform(rng, -1, 1) * same.x();
+      const Vec3 offset(kind == 1 ? shift : 0, kind == 2 ? shift : 0,
+                        2 * same.z() - uniform(rng, 0, 0.01));
+      pairs.push_back({same, a, same, {a.rotation * offset, a.rotation * turn}});
+      continue;
+    }
     if (regime == Regime::deep) {
       b = {random_unit_vector(rng) * reach * uniform(rng, 0.1, 0.8), random_rotation(rng)};
     } else if (regime == Regime::shallow) {
@@ -48,8 +62,9 @@ std::vector<BoxPairQuery> random_pairs(Regime regime, int count, std::uint64_t s
           Eigen::AngleAxis<Real>(aligned ? Real(0) : uniform(rng, -M_PI, M_PI), Vec3::UnitZ()));
       const Quat tilt(Eigen::AngleAxis<Real>(aligned ? Real(0) : uniform(rng, 0, 0.01),
                                              random_unit_vector(rng)));
-      const Vec3 offset(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3),
-                        ha.z() + hb.z() - uniform(rng, 0, 0.01));
+      // `gap`: apart by up to 1 cm, within the margin the test gives.
+      const Real sink = regime == Regime::gap ? -uniform(rng, 0, 0.01) : uniform(rng, 0, 0.01);
+      const Vec3 offset(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3), ha.z() + hb.z() - sink);
       b = {a.rotation * offset, a.rotation * tilt * turn};
     }
     if (regime == Regime::far) {
@@ -151,6 +166,15 @@ TEST(BoxBatch, MatchesCollideOnRestingBoxes) {
   expect_matches_collide(Regime::aligned, 0.01, 18);
 }
 
+TEST(BoxBatch, MatchesCollideOnBoxesApartWithinTheMargin) {
+  expect_matches_collide(Regime::gap, 0.02, 23);
+}
+
+TEST(BoxBatch, MatchesCollideOnCoincidentCornersAndEdges) {
+  expect_matches_collide(Regime::coincident, 0, 25);
+  expect_matches_collide(Regime::coincident, 0.01, 26);
+}
+
 TEST(BoxBatch, MatchesCollideFarFromTheOrigin) {
   expect_matches_collide(Regime::far, 0, 19);
 }
@@ -171,8 +195,8 @@ bool same_bits(const Manifold& a, const Manifold& b) {
 
 TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
   std::vector<BoxPairQuery> pairs;
-  for (Regime regime :
-       {Regime::deep, Regime::shallow, Regime::resting, Regime::aligned, Regime::far}) {
+  for (Regime regime : {Regime::deep, Regime::shallow, Regime::resting, Regime::aligned,
+                        Regime::far, Regime::gap}) {
     // Margins of 0 and 0.01 and, every fifth pair, one that differs pair by pair.
     auto some = random_pairs(regime, scaled(2000) + 3, 20 + std::uint64_t(regime), 0.01);
     for (std::size_t i = 0; i < some.size(); ++i)
