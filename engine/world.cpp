@@ -321,38 +321,13 @@ void World::collide_candidate_pairs() {
   penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
   const auto& materials = scene_->materials;
-  const auto is_box_pair = [&](const ProxyPair& pair) {
-    return bodies[pair.a].shape.type == ShapeType::box &&
-           bodies[pair.b].shape.type == ShapeType::box;
-  };
-  const auto margin_of = [&](const ProxyPair& pair) {
-    return speculative_margin_[pair.a] + speculative_margin_[pair.b];
-  };
-  // Box-box pairs first, all at once: the batch answers as collide() does (box_batch.hpp), eight
-  // pairs per vector pass.
-  box_queries_.clear();
-  for (const ProxyPair& pair : candidate_pairs_) {
-    if (is_box_pair(pair)) {
-      box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                              bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
-                              margin_of(pair)});
-    }
-  }
-  box_manifolds_.resize(box_queries_.size());
-  if (!box_queries_.empty())
-    collide_box_pairs(box_queries_, box_manifolds_);
-  std::size_t next_box = 0;
   for (const ProxyPair& pair : candidate_pairs_) {
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     PairContact pc;
-    if (is_box_pair(pair)) {
-      const Manifold& manifold = box_manifolds_[next_box++];
-      if (manifold.count == 0)
-        continue;
-      pc.manifold = manifold;
-    } else if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b],
-                       margin_of(pair), pc.manifold) == 0) {
+    const Real margin = speculative_margin_[pair.a] + speculative_margin_[pair.b];
+    if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b], margin,
+                pc.manifold) == 0) {
       continue;
     }
     pc.body_a = pair.a;

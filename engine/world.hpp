@@ -6,7 +6,6 @@
 #include <span>
 #include <vector>
 
-#include "collision/box_batch.hpp"
 #include "collision/broad_phase.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
@@ -94,10 +93,6 @@ class World {
   std::vector<Real> speculative_margin_;
   std::vector<ProxyPair> candidate_pairs_;
   std::vector<PairContact> contacts_;
-  // Box-box candidate pairs go through the batched narrow phase (collision/box_batch.hpp) before
-  // the other pairs, in candidate order.
-  std::vector<BoxPairQuery> box_queries_;
-  std::vector<Manifold> box_manifolds_;
   ContactSolver solver_;
   PenaltySolver penalty_solver_;
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
