@@ -1,9 +1,9 @@
 // Box-box manifolds over many pairs (see box_batch.hpp): the query of pairs/box_box.cpp rewritten
-// so that eight pairs run side by side, one per lane of a vector, every choice a select.
+// so that several pairs run side by side, one per lane of a vector, every choice a select.
 //
-// Per block of eight pairs: the pairs are put in collide()'s order and pair frame (scalar), one
-// straight-line pass computes every lane's answer, and a scalar pass writes the manifolds (or
-// sends a lane to collide() when the pass flags it). The pass:
+// Pairs go in chunks of 64: their order in collide() (detail::runs_first) is found first, in
+// scalar code; the lanes (box_batch_lanes.inc) answer them a block of lanes at a time, writing the
+// manifolds; the few pairs the lanes flag are answered by collide() afterwards. The lanes:
 //   - the separating-axis test of Gottschalk, Lin and Manocha (1996) in A's frame, the fifteen
 //     axes and the choice among them as box_box.cpp makes it (the same formulas and preferences);
 //   - for a face axis, the overlap of the reference face and the incident face found directly
@@ -14,13 +14,14 @@
 //     the largest added area; Catto 2007, Gregorius 2015) as masked maxima over the 24 slots;
 //   - for an edge axis, the closest points of the two extreme edges (Ericson 5.1.9), clamped by
 //     selects.
-// A vector pass costs the same for every lane whichever way its pair goes, so it pays when many
-// pairs are in contact: the face path is computed for edge lanes too and thrown away.
+// A pass costs the same for every lane whichever way its pair goes: the face path is computed
+// for edge lanes too and thrown away. When many pairs are apart, the separating-axis test runs
+// alone first so that only the others take the whole pass.
 //
-// The lanes are GCC vector extensions of 8 doubles, compiled three times (AVX-512, AVX2 as two
-// registers per vector, the baseline as four SSE2 registers) from the same source, with the same
-// IEEE operations in the same order (-ffp-contract=off; no FMA), so every machine gives the same
-// bits. The versions differ only in speed.
+// The lanes are GCC vector extensions as wide as the target's registers (8 doubles for AVX-512,
+// 4 for AVX2, 2 for the SSE2 baseline), the lanes file compiled once per instruction set, each
+// lane with the same IEEE operations in the same order (-ffp-contract=off; no FMA), so every
+// machine gives the same bits. The versions differ only in speed.
 #include "collision/box_batch.hpp"
 
 #include <algorithm>
