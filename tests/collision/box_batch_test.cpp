@@ -149,35 +149,34 @@ void expect_matches_collide(Regime regime, Real margin, std::uint64_t seed) {
       int(regime), margin, count, contacts, other_choice);
 }
 
-TEST(BoxBatch, MatchesCollideOnDeepPoses) {
-  expect_matches_collide(Regime::deep, 0, 11);
-  expect_matches_collide(Regime::deep, 0.01, 12);
+struct RegimeCase {
+  const char* name;
+  Regime regime;
+  Real margin;
+  std::uint64_t seed;
+};
+
+class BoxBatchRegime : public ::testing::TestWithParam<RegimeCase> {};
+
+TEST_P(BoxBatchRegime, MatchesCollide) {
+  expect_matches_collide(GetParam().regime, GetParam().margin, GetParam().seed);
 }
 
-TEST(BoxBatch, MatchesCollideOnShallowPoses) {
-  expect_matches_collide(Regime::shallow, 0, 13);
-  expect_matches_collide(Regime::shallow, 0.01, 14);
-}
-
-TEST(BoxBatch, MatchesCollideOnRestingBoxes) {
-  expect_matches_collide(Regime::resting, 0, 15);
-  expect_matches_collide(Regime::resting, 0.01, 16);
-  expect_matches_collide(Regime::aligned, 0, 17);
-  expect_matches_collide(Regime::aligned, 0.01, 18);
-}
-
-TEST(BoxBatch, MatchesCollideOnBoxesApartWithinTheMargin) {
-  expect_matches_collide(Regime::gap, 0.02, 23);
-}
-
-TEST(BoxBatch, MatchesCollideOnCoincidentCornersAndEdges) {
-  expect_matches_collide(Regime::coincident, 0, 25);
-  expect_matches_collide(Regime::coincident, 0.01, 26);
-}
-
-TEST(BoxBatch, MatchesCollideFarFromTheOrigin) {
-  expect_matches_collide(Regime::far, 0, 19);
-}
+INSTANTIATE_TEST_SUITE_P(
+    BoxBatch, BoxBatchRegime,
+    ::testing::Values(RegimeCase{"deep", Regime::deep, 0, 11},
+                      RegimeCase{"deep_margin", Regime::deep, 0.01, 12},
+                      RegimeCase{"shallow", Regime::shallow, 0, 13},
+                      RegimeCase{"shallow_margin", Regime::shallow, 0.01, 14},
+                      RegimeCase{"resting", Regime::resting, 0, 15},
+                      RegimeCase{"resting_margin", Regime::resting, 0.01, 16},
+                      RegimeCase{"aligned", Regime::aligned, 0, 17},
+                      RegimeCase{"aligned_margin", Regime::aligned, 0.01, 18},
+                      RegimeCase{"far", Regime::far, 0, 19},
+                      RegimeCase{"apart_within_margin", Regime::gap, 0.02, 23},
+                      RegimeCase{"coincident", Regime::coincident, 0, 25},
+                      RegimeCase{"coincident_margin", Regime::coincident, 0.01, 26}),
+    [](const ::testing::TestParamInfo<RegimeCase>& info) { return std::string(info.param.name); });
 
 bool same_bits(const Manifold& a, const Manifold& b) {
   if (a.count != b.count || std::memcmp(a.normal.data(), b.normal.data(), 3 * sizeof(Real)) != 0)
