@@ -31,7 +31,6 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <tuple>
 #include <utility>
 
 #include "collision/narrow_phase.hpp"
@@ -111,7 +110,7 @@ constexpr SlotFeatureTable make_slot_feature_table() {
 
 constexpr SlotFeatureTable kSlotFeatures = make_slot_feature_table();
 
-// Pairs go through the lanes in chunks: the order of each pair (detail::runs_first) is found
+// Pairs go through the lanes in chunks: the order of each pair (detail::boxes_run_first) is found
 // before a chunk, and the pairs the lanes leave are answered by collide() after it, both outside
 // the vector code.
 constexpr int kChunk = 64;
@@ -164,11 +163,7 @@ int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> o
     std::array<bool, kChunk> a_first{};
     for (int i = 0; i < count; ++i) {
       const BoxPairQuery& q = chunk_pairs[i];
-      // detail::runs_first for two boxes: their other dimensions are all 0.
-      const auto extents = [](const Vec3& h) { return std::make_tuple(h.x(), h.y(), h.z()); };
-      a_first[std::size_t(i)] = extents(q.half_a) != extents(q.half_b)
-                                    ? extents(q.half_a) < extents(q.half_b)
-                                    : detail::runs_first_by_pose(q.pose_a, q.pose_b);
+      a_first[std::size_t(i)] = detail::boxes_run_first(q.half_a, q.pose_a, q.half_b, q.pose_b);
     }
     std::array<int, kChunk> unanswered{};
     int unanswered_count = 0;

@@ -28,9 +28,31 @@ namespace tumble {
 
 namespace detail {
 
+namespace {
+
+// Two shapes of equal dimensions: ordered by their offset along a fixed generic direction (1,
+// sqrt2, sqrt3)/sqrt6, which no axis-aligned or diagonal offset is perpendicular to, so the order
+// of two bodies stacked, side by side or in a row does not flip from noise. Exact ties fall to the
+// pose coefficients.
+bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
+  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
+                                Real(0.70710678118654757)};
+  const Vec3 offset = pose_a.translation - pose_b.translation;
+  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
+  if (along != 0)
+    return along < 0;
+  const auto coefficients = [](const Transform& p) {
+    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
+                           p.rotation.x(), p.rotation.y(), p.rotation.z());
+  };
+  return coefficients(pose_a) <= coefficients(pose_b);
+}
+
+}  // namespace
+
 // Whether `a` goes first in a same-type pair (declared in pairs.hpp). The shapes' dimensions
 // decide first (they never change, so the order is stable for the life of the pair); equal shapes
-// are ordered by their poses (runs_first_by_pose).
+// are ordered by their poses.
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
   // Hulls are told apart by content (volume, vertex count), never by address, so the order is
   // the same in every run.
@@ -45,21 +67,13 @@ bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const T
   return runs_first_by_pose(pose_a, pose_b);
 }
 
-// Equal shapes: by their offset along a fixed generic direction (1, sqrt2, sqrt3)/sqrt6, which no
-// axis-aligned or diagonal offset is perpendicular to, so the order of two bodies stacked, side by
-// side or in a row does not flip from noise. Exact ties fall to the pose coefficients.
-bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
-  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
-                                Real(0.70710678118654757)};
-  const Vec3 offset = pose_a.translation - pose_b.translation;
-  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
-  if (along != 0)
-    return along < 0;
-  const auto coefficients = [](const Transform& p) {
-    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
-                           p.rotation.x(), p.rotation.y(), p.rotation.z());
-  };
-  return coefficients(pose_a) <= coefficients(pose_b);
+// runs_first for two boxes, whose other dimensions are all 0, without making Shapes.
+bool boxes_run_first(const Vec3& half_a, const Transform& pose_a, const Vec3& half_b,
+                     const Transform& pose_b) {
+  const auto extents = [](const Vec3& h) { return std::make_tuple(h.x(), h.y(), h.z()); };
+  if (extents(half_a) != extents(half_b))
+    return extents(half_a) < extents(half_b);
+  return runs_first_by_pose(pose_a, pose_b);
 }
 
 }  // namespace detail

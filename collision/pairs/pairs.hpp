@@ -47,8 +47,9 @@ int box_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Tra
 // narrow_phase.cpp: whether `a` goes first when two shapes of one type meet (the order collide()
 // runs their pair function in, and collide_box_pairs too).
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b);
-// The part of runs_first that orders two shapes of equal dimensions.
-bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b);
+// The same for two boxes given by their half extents (collide_box_pairs).
+bool boxes_run_first(const Vec3& half_a, const Transform& pose_a, const Vec3& half_b,
+                     const Transform& pose_b);
 
 // box_box.cpp
 int box_box(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,

@@ -20,6 +20,7 @@
 
 #include "collision/box_batch.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 
@@ -258,6 +259,25 @@ TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
       EXPECT_LT(out[i].points[p].feature.b, 26);
     }
   }
+}
+
+TEST(BoxBatch, BoxOrderIsCollidesOrder) {
+  // detail::boxes_run_first must order two boxes as detail::runs_first orders their Shapes:
+  // different sizes, equal sizes, equal sizes at one position (the pose coefficients decide).
+  Rng rng(41);
+  int equal_sizes = 0;
+  for (int i = 0; i < scaled(20000); ++i) {
+    const Vec3 ha(uniform(rng, 0.1, 1), uniform(rng, 0.1, 1), uniform(rng, 0.1, 1));
+    const Vec3 hb = i % 3 == 0 ? ha : Vec3(ha.x(), i % 3 == 1 ? uniform(rng, 0.1, 1) : ha.y(), 0.5);
+    const Transform a{random_vector_in_box(rng, 2), random_rotation(rng)};
+    const Transform b{i % 5 == 0 ? a.translation : random_vector_in_box(rng, 2),
+                      random_rotation(rng)};
+    EXPECT_EQ(detail::boxes_run_first(ha, a, hb, b),
+              detail::runs_first(Shape::box(ha), a, Shape::box(hb), b))
+        << "case " << i;
+    equal_sizes += ha == hb ? 1 : 0;
+  }
+  EXPECT_GT(equal_sizes, scaled(20000) / 4);
 }
 
 TEST(BoxBatch, AnyNumberOfPairsAndATooSmallOutput) {
