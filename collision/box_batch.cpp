@@ -9,14 +9,17 @@
 //   - for a face axis, the overlap of the reference face and the incident face found directly
 //     (Ericson 8.3.4's Sutherland-Hodgman clip gives the same polygon; here its vertices come out
 //     as 24 fixed candidates: 4 incident corners, 16 crossings of the 4 incident edges with the 4
-//     side planes, 4 reference corners, each with a keep mask), then the four points kept by the
-//     rule of manifold_reduction.hpp (the deepest, the farthest from it, the largest triangle,
-//     the largest added area; Catto 2007, Gregorius 2015) as masked maxima over the 24 slots;
+//     side planes, 4 reference corners, each with a keep mask, packed to 12 since at most two per
+//     incident edge can be vertices), then the four points kept by the rule of
+//     manifold_reduction.hpp (the deepest, the farthest from it, the largest triangle, the
+//     largest added area; Catto 2007, Gregorius 2015) as masked maxima over the 12 slots;
 //   - for an edge axis, the closest points of the two extreme edges (Ericson 5.1.9), clamped by
 //     selects.
-// A pass costs the same for every lane whichever way its pair goes: the face path is computed
-// for edge lanes too and thrown away. When many pairs are apart, the separating-axis test runs
-// alone first so that only the others take the whole pass.
+// A vector pass costs the same for every lane whichever way its pair goes, so face and edge
+// contacts take separate passes: when many pairs of the last chunk were apart or edge contacts,
+// the separating-axis test runs alone first and sorts the chunk's pairs into face pairs and edge
+// pairs (the apart ones are done); otherwise every pair takes the face pass, which leaves the
+// edge pairs to the edge pass. Each pass runs the test again rather than store its results.
 //
 // The lanes are GCC vector extensions as wide as the target's registers (8 doubles for AVX-512,
 // 4 for AVX2, 2 for the SSE2 baseline), the lanes file compiled once per instruction set, each
@@ -150,13 +153,15 @@ constexpr int kLanes = 2;
 
 namespace {
 
-using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, bool, Manifold*, int*, int&,
-                              int&);
+template <class Lists>
+using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, bool, Manifold*, Lists&);
 
+template <class Lists>
 int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> out,
-                      ChunkFunction chunk) {
+                      ChunkFunction<Lists> chunk) {
   int points = 0;
-  bool sat_first = true;
+  bool classify_first = true;
+  Lists lists;
   for (std::size_t start = 0; start < pairs.size(); start += kChunk) {
     const int count = int(std::min<std::size_t>(kChunk, pairs.size() - start));
     const BoxPairQuery* chunk_pairs = pairs.data() + start;
@@ -165,16 +170,13 @@ int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> o
       const BoxPairQuery& q = chunk_pairs[i];
       a_first[std::size_t(i)] = detail::boxes_run_first(q.half_a, q.pose_a, q.half_b, q.pose_b);
     }
-    std::array<int, kChunk> unanswered{};
-    int unanswered_count = 0;
-    int apart_count = 0;
-    points += chunk(chunk_pairs, a_first.data(), count, sat_first, out.data() + start,
-                    unanswered.data(), unanswered_count, apart_count);
-    // The test first pays when many pairs are apart: decide by the chunk just done (the data
-    // alone decide, so the same input takes the same path; the answers do not depend on it).
-    sat_first = 4 * apart_count >= count;
-    for (int k = 0; k < unanswered_count; ++k) {
-      const int i = unanswered[std::size_t(k)];
+    points += chunk(chunk_pairs, a_first.data(), count, classify_first, out.data() + start, lists);
+    // Sorting first pays when many pairs are apart or touch edge to edge: decide by the chunk
+    // just done (the data alone decide, so the same input takes the same path; the answers do
+    // not depend on it).
+    classify_first = 4 * (lists.apart_count + lists.edge_count) >= count;
+    for (int k = 0; k < lists.unanswered_count; ++k) {
+      const int i = lists.unanswered[std::size_t(k)];
       const BoxPairQuery& q = chunk_pairs[i];
       points += collide(Shape::box(q.half_a), q.pose_a, Shape::box(q.half_b), q.pose_b, q.margin,
                         out[start + std::size_t(i)]);

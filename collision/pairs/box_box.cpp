@@ -556,30 +556,31 @@ Axis edge_axis(const PairInA& pair, int i, int j, Real along, Real squared_lengt
 
 // The most separated edge axis, the first on ties (separation -infinity when every pair of edges is
 // parallel). The lanes are ranked by the signed square of their separation, excess |excess| /
-// squared_length (nine independent divisions, no square root), in a tournament whose left side wins
-// ties, so the first lane wins and the chain of comparisons is four deep instead of nine; only the
-// winner's separation is computed.
+// squared_length, compared by cross multiplication (no division, no square root; box_batch does
+// the same), in a tournament whose left side wins ties, so the first lane wins and the chain of
+// comparisons is four deep instead of nine; only the winner's separation is computed.
 Axis best_edge_axis(const PairInA& pair, const std::array<EdgeAxisTerms, 9>& terms) {
-  std::array<Real, 9> key;
+  // (signed square, squared length or 1) of each lane; -infinity for parallel edges.
+  struct Entry {
+    Real signed_square;
+    Real length2;
+    int lane;
+  };
+  std::array<Entry, 9> entry;
   for (int lane = 0; lane < 9; ++lane) {
     const EdgeAxisTerms& t = terms[lane];
     const bool valid = t.squared_length > kMinCrossSine * kMinCrossSine;
-    const Real denominator = valid ? t.squared_length : Real(1);
-    key[lane] = valid ? t.excess * std::abs(t.excess) / denominator
-                      : -std::numeric_limits<Real>::infinity();
+    entry[lane] = {valid ? t.excess * std::abs(t.excess) : -std::numeric_limits<Real>::infinity(),
+                   valid ? t.squared_length : Real(1), lane};
   }
-  struct Entry {
-    Real key;
-    int lane;
-  };
   const auto better = [](const Entry& left, const Entry& right) {
-    return right.key > left.key ? right : left;
+    return right.signed_square * left.length2 > left.signed_square * right.length2 ? right : left;
   };
-  const Entry level1[4] = {better({key[0], 0}, {key[1], 1}), better({key[2], 2}, {key[3], 3}),
-                           better({key[4], 4}, {key[5], 5}), better({key[6], 6}, {key[7], 7})};
+  const Entry level1[4] = {better(entry[0], entry[1]), better(entry[2], entry[3]),
+                           better(entry[4], entry[5]), better(entry[6], entry[7])};
   const Entry level2 = better(better(level1[0], level1[1]), better(level1[2], level1[3]));
-  const Entry best = better(level2, {key[8], 8});
-  if (!(best.key > -std::numeric_limits<Real>::infinity())) {
+  const Entry best = better(level2, entry[8]);
+  if (!(best.signed_square > -std::numeric_limits<Real>::infinity())) {
     Axis none;
     none.kind = AxisKind::edges;
     return none;
