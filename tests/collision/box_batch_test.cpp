@@ -8,8 +8,9 @@
 //     chosen among more and the choice has ties (points on an edge parallel to the line through
 //     the first two), another tied vertex may be kept: then every point must still lie on both
 //     boxes' surfaces (the point on A on A's boundary, the point on B on B's);
-// and the instruction-set versions give the same bits, non-finite poses a valid manifold, and a
-// too-small output an error.
+// and the instruction-set versions give the same bits, so do a pair alone and the pair among
+// others (whichever order of passes its chunk takes), non-finite poses give a valid manifold, and
+// a too-small output an error.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -231,6 +232,52 @@ TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
       "[ stats    ] box batch: %zu pairs, %d vector versions besides the portable one "
       "compared bit for bit\n",
       pairs.size(), versions);
+}
+
+// A chunk of pairs takes either order of passes (sorted by the separating-axis test first, or the
+// face pass first, which leaves the edge contacts to the edge pass), chosen by how the chunk
+// before went. Each pair's answer must not depend on it: the same bits as the pair alone (one
+// pair is a first chunk, always sorted first).
+TEST(BoxBatch, ThePassOrderDoesNotChangeAnAnswer) {
+  constexpr int kChunk = 64;
+  std::vector<BoxPairQuery> pairs;
+  int edge_contacts_after_faces = 0;
+  for (int round = 0; round < scaled(20); ++round) {
+    // A chunk of resting boxes in face contact (none apart, so the next chunk takes the face
+    // pass first).
+    const auto resting = random_pairs(Regime::resting, 4 * kChunk, 60 + std::uint64_t(round));
+    int faces = 0;
+    for (std::size_t i = 0; i < resting.size() && faces < kChunk; ++i) {
+      if (collide_one(resting[i]).count >= 3) {
+        pairs.push_back(resting[i]);
+        ++faces;
+      }
+    }
+    ASSERT_EQ(faces, kChunk);
+    // Deep poses: about a third edge contacts, left by the face pass to the edge pass; the next
+    // chunk is sorted first.
+    const auto mixed = random_pairs(Regime::deep, kChunk, 160 + std::uint64_t(round));
+    for (const BoxPairQuery& q : mixed) {
+      const Manifold m = collide_one(q);
+      const auto is_edge = [](std::uint16_t f) {
+        return f >= detail::feature::kBoxFirstEdge && f < detail::feature::kBoxFirstFace;
+      };
+      edge_contacts_after_faces +=
+          m.count == 1 && is_edge(m.points[0].feature.a) && is_edge(m.points[0].feature.b);
+    }
+    pairs.insert(pairs.end(), mixed.begin(), mixed.end());
+    // Shallow poses, many apart, sorted first; and a chunk cut short.
+    const auto shallow = random_pairs(Regime::shallow, kChunk + 17, 260 + std::uint64_t(round));
+    pairs.insert(pairs.end(), shallow.begin(), shallow.end());
+  }
+  std::vector<Manifold> together(pairs.size());
+  collide_box_pairs(pairs, together);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    Manifold alone;
+    collide_box_pairs(std::span(&pairs[i], 1), std::span(&alone, 1));
+    ASSERT_TRUE(same_bits(together[i], alone)) << "pair " << i;
+  }
+  EXPECT_GT(edge_contacts_after_faces, scaled(20) * kChunk / 8);
 }
 
 TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
