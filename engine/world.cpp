@@ -321,13 +321,37 @@ void World::collide_candidate_pairs() {
   penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
   const auto& materials = scene_->materials;
+  const auto margin_of = [&](const ProxyPair& pair) {
+    return speculative_margin_[pair.a] + speculative_margin_[pair.b];
+  };
+  const auto is_box_pair = [&](const ProxyPair& pair) {
+    return bodies[pair.a].shape.type == ShapeType::box &&
+           bodies[pair.b].shape.type == ShapeType::box;
+  };
+  // Box-box pairs, the most common in box scenes, go through the batched path first, all at once
+  // (collide_box_pairs answers each as collide() does); the rest pair by pair below, in order.
+  box_queries_.clear();
+  for (const ProxyPair& pair : candidate_pairs_) {
+    if (is_box_pair(pair)) {
+      box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
+                              bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
+                              margin_of(pair)});
+    }
+  }
+  if (box_manifolds_.size() < box_queries_.size())
+    box_manifolds_.resize(box_queries_.size());
+  collide_box_pairs(box_queries_, box_manifolds_);
+  std::size_t next_box_pair = 0;
   for (const ProxyPair& pair : candidate_pairs_) {
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     PairContact pc;
-    const Real margin = speculative_margin_[pair.a] + speculative_margin_[pair.b];
-    if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b], margin,
-                pc.manifold) == 0) {
+    if (is_box_pair(pair)) {
+      pc.manifold = box_manifolds_[next_box_pair++];
+      if (pc.manifold.count == 0)
+        continue;
+    } else if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b],
+                       margin_of(pair), pc.manifold) == 0) {
       continue;
     }
     pc.body_a = pair.a;

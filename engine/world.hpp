@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "collision/box_batch.hpp"
 #include "collision/broad_phase.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
@@ -92,6 +93,8 @@ class World {
   std::vector<GyroscopicCarry> carries_;
   std::vector<Real> speculative_margin_;
   std::vector<ProxyPair> candidate_pairs_;
+  std::vector<BoxPairQuery> box_queries_;  // the box-box candidate pairs, in order
+  std::vector<Manifold> box_manifolds_;    // their manifolds
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
   PenaltySolver penalty_solver_;
