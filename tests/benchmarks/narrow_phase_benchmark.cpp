@@ -1,7 +1,8 @@
 // Narrow-phase benchmark (issue 3): tumble and Bullet (float64 build) in the same binary, on the
 // same precomputed random poses, five comparisons:
 //   1. box-box manifold: tumble collide(), and the batched collide_box_pairs() over all the poses
-//      at once, vs btBoxBoxDetector::getClosestPoints, on deep random poses and on resting ones;
+//      at once (also its AVX2 and baseline versions on the deep poses), vs
+//      btBoxBoxDetector::getClosestPoints, on deep random poses and on resting ones;
 //   2. GJK on separated boxes and 3. on separated 43-vertex hulls: tumble gjk() vs
 //      btGjkPairDetector (btVoronoiSimplexSolver, margins 0);
 //   4. GJK+EPA on penetrating 43-vertex hulls: tumble gjk()+epa() vs btGjkPairDetector with
@@ -136,13 +137,22 @@ void run_bullet_box_box(benchmark::State& state, const std::vector<PosePair>& p)
 }
 
 // The batched path: collide_box_pairs over all the poses at once, timed per pair.
-void run_tumble_box_batch(benchmark::State& state, const std::vector<PosePair>& p) {
+using BoxBatchVersion = int (*)(std::span<const BoxPairQuery>, std::span<Manifold>);
+
+// `version`: collide_box_pairs (the best the CPU has) or one instruction-set version, which runs
+// only when `supported` (the CPU has its instructions).
+void run_tumble_box_batch(benchmark::State& state, const std::vector<PosePair>& p,
+                          BoxBatchVersion version = collide_box_pairs, bool supported = true) {
+  if (!supported) {
+    state.SkipWithError("this CPU lacks the instruction set of this version");
+    return;
+  }
   std::vector<BoxPairQuery> queries;
   for (const PosePair& q : p)
     queries.push_back({kBoxHalf, q.a, kBoxHalf, q.b});
   std::vector<Manifold> out(queries.size());
   for (auto _ : state)
-    benchmark::DoNotOptimize(collide_box_pairs(queries, out));
+    benchmark::DoNotOptimize(version(queries, out));
   state.SetItemsProcessed(state.iterations() * std::int64_t(queries.size()));
 }
 
@@ -154,6 +164,15 @@ void BM_BoxBoxManifold_Bullet(benchmark::State& state) {
 }
 void BM_BoxBoxManifold_TumbleBatch(benchmark::State& state) {
   run_tumble_box_batch(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1));
+}
+// The batch's narrower versions on the same poses (the same bits, for machines without AVX-512).
+void BM_BoxBoxManifold_TumbleBatchAvx2(benchmark::State& state) {
+  run_tumble_box_batch(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1),
+                       detail::collide_box_pairs_avx2, __builtin_cpu_supports("avx2") != 0);
+}
+void BM_BoxBoxManifold_TumbleBatchBaseline(benchmark::State& state) {
+  run_tumble_box_batch(state, poses(0.2, 0.75, 2 * kBoxHalf.norm(), 1),
+                       detail::collide_box_pairs_portable);
 }
 
 // The same pair resting, as boxes in a stack or on a pallet do (the contacts a simulation mostly
@@ -521,6 +540,8 @@ void BM_HullHull43Separated_BulletSat(benchmark::State& state) {
 BENCHMARK(BM_BoxBoxManifold_Tumble);
 BENCHMARK(BM_BoxBoxManifold_Bullet);
 BENCHMARK(BM_BoxBoxManifold_TumbleBatch);
+BENCHMARK(BM_BoxBoxManifold_TumbleBatchAvx2);
+BENCHMARK(BM_BoxBoxManifold_TumbleBatchBaseline);
 BENCHMARK(BM_BoxBoxResting_Tumble);
 BENCHMARK(BM_BoxBoxResting_Bullet);
 BENCHMARK(BM_BoxBoxResting_TumbleBatch);
