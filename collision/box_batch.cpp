@@ -158,9 +158,11 @@ using ChunkFunction = int (*)(const BoxPairQuery*, const bool*, int, bool, Manif
 
 template <class Lists>
 int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> out,
-                      ChunkFunction<Lists> chunk) {
+                      ChunkFunction<Lists> chunk,
+                      detail::BoxBatchOrder order = detail::BoxBatchOrder::adaptive) {
+  using detail::BoxBatchOrder;
   int points = 0;
-  bool classify_first = true;
+  bool classify_first = order != BoxBatchOrder::face_first;
   Lists lists;
   for (std::size_t start = 0; start < pairs.size(); start += kChunk) {
     const int count = int(std::min<std::size_t>(kChunk, pairs.size() - start));
@@ -174,7 +176,8 @@ int collide_in_chunks(std::span<const BoxPairQuery> pairs, std::span<Manifold> o
     // Sorting first pays when many pairs are apart or touch edge to edge: decide by the chunk
     // just done (the data alone decide, so the same input takes the same path; the answers do
     // not depend on it).
-    classify_first = 4 * (lists.apart_count + lists.edge_count) >= count;
+    if (order == BoxBatchOrder::adaptive)
+      classify_first = 4 * (lists.apart_count + lists.edge_count) >= count;
     for (int k = 0; k < lists.unanswered_count; ++k) {
       const int i = lists.unanswered[std::size_t(k)];
       const BoxPairQuery& q = chunk_pairs[i];
@@ -199,6 +202,21 @@ int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, std::span<Manifo
 
 int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, std::span<Manifold> out) {
   return collide_in_chunks(pairs, out, lanes2::collide_chunk);
+}
+
+int collide_box_pairs_in_order(std::span<const BoxPairQuery> pairs, std::span<Manifold> out,
+                               int lanes, BoxBatchOrder order) {
+  switch (lanes) {
+    case 8:
+      return collide_in_chunks(pairs, out, lanes8::collide_chunk, order);
+    case 4:
+      return collide_in_chunks(pairs, out, lanes4::collide_chunk, order);
+    case 2:
+      return collide_in_chunks(pairs, out, lanes2::collide_chunk, order);
+    default:
+      throw std::invalid_argument("collide_box_pairs_in_order: lanes must be 8, 4 or 2, not " +
+                                  std::to_string(lanes));
+  }
 }
 
 }  // namespace detail

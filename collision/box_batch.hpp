@@ -35,6 +35,13 @@ namespace detail {
 int collide_box_pairs_avx512(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
 int collide_box_pairs_avx2(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
 int collide_box_pairs_portable(std::span<const BoxPairQuery> pairs, std::span<Manifold> out);
+
+// For tests: the version of `lanes` lanes (8: AVX-512, 4: AVX2, 2: baseline) with the order of
+// passes forced for every chunk (sorted by the separating-axis test first, or the face pass
+// first) or chosen as collide_box_pairs chooses it. Every order gives the same bits.
+enum class BoxBatchOrder { adaptive, sort_first, face_first };
+int collide_box_pairs_in_order(std::span<const BoxPairQuery> pairs, std::span<Manifold> out,
+                               int lanes, BoxBatchOrder order);
 }  // namespace detail
 
 }  // namespace tumble

@@ -234,50 +234,63 @@ TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
       pairs.size(), versions);
 }
 
-// A chunk of pairs takes either order of passes (sorted by the separating-axis test first, or the
-// face pass first, which leaves the edge contacts to the edge pass), chosen by how the chunk
-// before went. Each pair's answer must not depend on it: the same bits as the pair alone (one
-// pair is a first chunk, always sorted first).
+// A chunk of pairs takes either order of passes: sorted by the separating-axis test first (apart
+// pairs done, face pairs to the face pass, edge pairs to the edge pass, each testing only its
+// own axes), or the face pass first, which leaves the edge pairs to the edge pass. The order must
+// not change any answer, in any version: every version in every order gives the bits of the
+// baseline version in its own (adaptive) order, and a pair alone gives the bits it gets among
+// others.
 TEST(BoxBatch, ThePassOrderDoesNotChangeAnAnswer) {
-  constexpr int kChunk = 64;
   std::vector<BoxPairQuery> pairs;
-  int edge_contacts_after_faces = 0;
-  for (int round = 0; round < scaled(20); ++round) {
-    // A chunk of resting boxes in face contact (none apart, so the next chunk takes the face
-    // pass first).
-    const auto resting = random_pairs(Regime::resting, 4 * kChunk, 60 + std::uint64_t(round));
-    int faces = 0;
-    for (std::size_t i = 0; i < resting.size() && faces < kChunk; ++i) {
-      if (collide_one(resting[i]).count >= 3) {
-        pairs.push_back(resting[i]);
-        ++faces;
-      }
-    }
-    ASSERT_EQ(faces, kChunk);
-    // Deep poses: about a third edge contacts, left by the face pass to the edge pass; the next
-    // chunk is sorted first.
-    const auto mixed = random_pairs(Regime::deep, kChunk, 160 + std::uint64_t(round));
-    for (const BoxPairQuery& q : mixed) {
+  int edge_contacts = 0;
+  int face_contacts = 0;
+  for (Regime regime : {Regime::deep, Regime::resting, Regime::shallow, Regime::gap,
+                        Regime::coincident, Regime::far}) {
+    auto some = random_pairs(regime, scaled(1500), 70 + std::uint64_t(regime), 0.01);
+    for (std::size_t i = 0; i < some.size(); ++i)
+      some[i].margin = i % 3 == 0 ? 0 : Real(0.001) * Real(i % 11);
+    for (const BoxPairQuery& q : some) {
       const Manifold m = collide_one(q);
       const auto is_edge = [](std::uint16_t f) {
         return f >= detail::feature::kBoxFirstEdge && f < detail::feature::kBoxFirstFace;
       };
-      edge_contacts_after_faces +=
+      const bool edge =
           m.count == 1 && is_edge(m.points[0].feature.a) && is_edge(m.points[0].feature.b);
+      edge_contacts += edge ? 1 : 0;
+      face_contacts += m.count >= 2 ? 1 : 0;
     }
-    pairs.insert(pairs.end(), mixed.begin(), mixed.end());
-    // Shallow poses, many apart, sorted first; and a chunk cut short.
-    const auto shallow = random_pairs(Regime::shallow, kChunk + 17, 260 + std::uint64_t(round));
-    pairs.insert(pairs.end(), shallow.begin(), shallow.end());
+    pairs.insert(pairs.end(), some.begin(), some.end());
   }
-  std::vector<Manifold> together(pairs.size());
-  collide_box_pairs(pairs, together);
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
+  EXPECT_GT(edge_contacts, scaled(1500) / 4);
+  EXPECT_GT(face_contacts, scaled(1500) * 2);
+  std::vector<Manifold> reference(pairs.size());
+  detail::collide_box_pairs_in_order(pairs, reference, 2, detail::BoxBatchOrder::adaptive);
+  __builtin_cpu_init();
+  std::vector<int> widths = {2};
+  if (__builtin_cpu_supports("avx2"))
+    widths.push_back(4);
+  if (__builtin_cpu_supports("avx512f"))
+    widths.push_back(8);
+  for (int lanes : widths) {
+    for (detail::BoxBatchOrder order :
+         {detail::BoxBatchOrder::sort_first, detail::BoxBatchOrder::face_first,
+          detail::BoxBatchOrder::adaptive}) {
+      std::vector<Manifold> out(pairs.size());
+      detail::collide_box_pairs_in_order(pairs, out, lanes, order);
+      for (std::size_t i = 0; i < pairs.size(); ++i) {
+        ASSERT_TRUE(same_bits(out[i], reference[i]))
+            << lanes << " lanes, order " << int(order) << ", pair " << i;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < pairs.size(); i += 7) {
     Manifold alone;
     collide_box_pairs(std::span(&pairs[i], 1), std::span(&alone, 1));
-    ASSERT_TRUE(same_bits(together[i], alone)) << "pair " << i;
+    ASSERT_TRUE(same_bits(alone, reference[i])) << "pair " << i << " alone";
   }
-  EXPECT_GT(edge_contacts_after_faces, scaled(20) * kChunk / 8);
+  std::vector<Manifold> out(1);
+  EXPECT_THROW(detail::collide_box_pairs_in_order(pairs, out, 3, detail::BoxBatchOrder::adaptive),
+               std::invalid_argument);
 }
 
 TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
