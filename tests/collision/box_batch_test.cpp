@@ -9,8 +9,8 @@
 //     the first two), another tied vertex may be kept: then every point must still lie on both
 //     boxes' surfaces (the point on A on A's boundary, the point on B on B's);
 // and the instruction-set versions give the same bits, so do a pair alone and the pair among
-// others (whichever order of passes its chunk takes), non-finite poses give a valid manifold, and
-// a too-small output an error.
+// others (whichever order of passes its chunk takes), swapping the boxes flips the normal and
+// nothing else, non-finite poses give a valid manifold, and a too-small output an error.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -291,6 +291,43 @@ TEST(BoxBatch, ThePassOrderDoesNotChangeAnAnswer) {
   std::vector<Manifold> out(1);
   EXPECT_THROW(detail::collide_box_pairs_in_order(pairs, out, 3, detail::BoxBatchOrder::adaptive),
                std::invalid_argument);
+}
+
+// Issue 3's swap rule, for the batch: the pair given as (B, A) gets the opposite normal, the same
+// points (bit for bit) and each feature id with its two sides exchanged.
+TEST(BoxBatch, SwappingTheBoxesFlipsTheNormalAndNothingElse) {
+  std::vector<BoxPairQuery> pairs;
+  for (Regime regime : {Regime::deep, Regime::shallow, Regime::resting, Regime::aligned,
+                        Regime::gap, Regime::coincident, Regime::far}) {
+    const auto some = random_pairs(regime, scaled(3000), 90 + std::uint64_t(regime), 0.01);
+    pairs.insert(pairs.end(), some.begin(), some.end());
+  }
+  std::vector<BoxPairQuery> swapped;
+  for (const BoxPairQuery& q : pairs)
+    swapped.push_back({q.half_b, q.pose_b, q.half_a, q.pose_a, q.margin});
+  std::vector<Manifold> forward(pairs.size()), backward(pairs.size());
+  collide_box_pairs(pairs, forward);
+  collide_box_pairs(swapped, backward);
+  int contacts = 0;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Manifold& x = forward[i];
+    const Manifold& y = backward[i];
+    ASSERT_EQ(x.count, y.count) << "pair " << i;
+    contacts += x.count > 0 ? 1 : 0;
+    if (x.count == 0)
+      continue;
+    ASSERT_TRUE(x.normal == Vec3(-y.normal)) << "pair " << i;
+    for (int p = 0; p < x.count; ++p) {
+      ASSERT_EQ(
+          std::memcmp(x.points[p].position.data(), y.points[p].position.data(), 3 * sizeof(Real)),
+          0)
+          << "pair " << i << " point " << p;
+      ASSERT_EQ(x.points[p].depth, y.points[p].depth) << "pair " << i << " point " << p;
+      ASSERT_TRUE(x.points[p].feature == y.points[p].feature.swapped())
+          << "pair " << i << " point " << p;
+    }
+  }
+  EXPECT_GT(contacts, int(pairs.size()) / 2);
 }
 
 TEST(BoxBatch, NonFinitePosesGiveAValidManifold) {
