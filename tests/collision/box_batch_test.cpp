@@ -207,19 +207,22 @@ TEST(BoxBatch, EveryInstructionSetGivesTheSameBits) {
   std::vector<Manifold> portable(pairs.size());
   detail::collide_box_pairs_portable(pairs, portable);
   __builtin_cpu_init();
+  struct Version {
+    const char* name;
+    bool supported;
+    int (*run)(std::span<const BoxPairQuery>, std::span<Manifold>);
+  };
+  const Version vector_versions[] = {
+      {"AVX2", __builtin_cpu_supports("avx2") != 0, detail::collide_box_pairs_avx2},
+      {"AVX-512", __builtin_cpu_supports("avx512f") != 0, detail::collide_box_pairs_avx512}};
   int versions = 0;
-  if (__builtin_cpu_supports("avx2")) {
-    std::vector<Manifold> avx2(pairs.size());
-    detail::collide_box_pairs_avx2(pairs, avx2);
+  for (const Version& version : vector_versions) {
+    if (!version.supported)
+      continue;
+    std::vector<Manifold> out(pairs.size());
+    version.run(pairs, out);
     for (std::size_t i = 0; i < pairs.size(); ++i)
-      ASSERT_TRUE(same_bits(avx2[i], portable[i])) << "AVX2, pair " << i;
-    ++versions;
-  }
-  if (__builtin_cpu_supports("avx512f")) {
-    std::vector<Manifold> avx512(pairs.size());
-    detail::collide_box_pairs_avx512(pairs, avx512);
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      ASSERT_TRUE(same_bits(avx512[i], portable[i])) << "AVX-512, pair " << i;
+      ASSERT_TRUE(same_bits(out[i], portable[i])) << version.name << ", pair " << i;
     ++versions;
   }
   std::vector<Manifold> dispatched(pairs.size());
