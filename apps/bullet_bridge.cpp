@@ -53,8 +53,9 @@ namespace {
                                             std::vector<std::string>& out) {
   const WorldSettings& w = scene.world;
   out.push_back("position correction: tumble uses soft contacts (contact_hertz " +
-                std::to_string(w.contact_hertz) + " Hz, damping ratio " +
-                std::to_string(w.contact_damping_ratio) + ", slop " +
+                (w.contact_hertz ? std::to_string(*w.contact_hertz) + " Hz"
+                                 : std::string("auto: 1/8 of the substep rate, 1/4 on static")) +
+                ", damping ratio " + std::to_string(w.contact_damping_ratio) + ", slop " +
                 std::to_string(w.penetration_slop) + " m, max push " +
                 std::to_string(w.max_push_velocity) +
                 " m/s); Bullet uses split impulse with erp2 0.8 and no slop");

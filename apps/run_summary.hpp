@@ -25,7 +25,9 @@ class RunSummary {
   std::filesystem::path scene_path_;
   std::int64_t steps_ = 0;
   BroadPhaseType broad_phase_used_;
-  int substeps_used_ = 1;  // the penalty solver may raise the scene's substeps
+  // The penalty solver may raise the scene's substeps, and the impulse solver an island's: the
+  // most used in any step.
+  int substeps_used_ = 1;
   StepStatistics totals_;
   std::int64_t max_contact_points_ = 0;
   Real initial_kinetic_ = 0;

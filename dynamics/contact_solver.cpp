@@ -3,247 +3,439 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <new>
 #include <numbers>
 
 #include "dynamics/contact_rows.hpp"
+#include "dynamics/contact_solver_wide.hpp"
 
 namespace tumble {
 using detail::find_cached;
+
+namespace {
+
+constexpr int diagonal_index(int i) {
+  return i * (i + 3) / 2;  // (i, i) in the packed lower triangle
+}
+
+// Soft spring of angular frequency w and damping ratio z, discretised implicitly over the
+// substep h (Catto, Solver2D): a1 = 2 z + h w, a2 = h w a1. The bias velocity is (w / a1) *
+// separation, and each row's compliance is J M^-1 J^T / a2, so the response does not depend on
+// mass: one row alone gets the impulse -m_eff a2 / (1 + a2) (v + bias) - lambda / (1 + a2).
+ContactSolver::Coefficients coefficients_of(const ContactSolverSettings& settings) {
+  ContactSolver::Coefficients k;
+  const Real h = settings.substep;
+  k.h = h;
+  k.inv_h = Real(1) / h;
+  const Real hertz[2] = {settings.contact_hertz, settings.static_contact_hertz};
+  for (int i = 0; i < 2; ++i) {
+    const Real omega = 2 * std::numbers::pi_v<Real> * hertz[i];
+    const Real a1 = 2 * settings.contact_damping_ratio + h * omega;
+    const Real a2 = h * omega * a1;
+    k.bias_rate[i] = a1 > 0 ? omega / a1 : Real(0);
+    k.soft_compliance[i] = a2 > 0 ? Real(1) / a2 : std::numeric_limits<Real>::max();
+  }
+  k.slop = settings.penetration_slop;
+  k.max_push = settings.max_push_velocity;
+  k.restitution_threshold = settings.restitution_threshold;
+  return k;
+}
+
+}  // namespace
+
+void ContactSolver::AlignedFree::operator()(std::byte* p) const {
+  ::operator delete[](p, std::align_val_t(64));
+}
+
+ContactSolver::ContactSolver() : kernels_(&detail::wide_kernels()) {
+  velocities_.resize(1);
+  motions_.resize(1);
+  groups_.reserve(16);  // a world has at most 11 (one per doubling of the substeps)
+}
+ContactSolver::~ContactSolver() = default;
+ContactSolver::ContactSolver(ContactSolver&&) noexcept = default;
+ContactSolver& ContactSolver::operator=(ContactSolver&&) noexcept = default;
+
+std::size_t ContactSolver::bytes_reserved() const {
+  return bundle_capacity_ + records_.capacity() * sizeof(ManifoldRecord) +
+         velocities_.capacity() * sizeof(Velocity) + motions_.capacity() * sizeof(Motion) +
+         (lane_records_.capacity() + group_records_.capacity() + pair_slot_a_.capacity() +
+          pair_slot_b_.capacity() + slot_of_body_.capacity() + body_of_slot_.capacity()) *
+             sizeof(std::int32_t);
+}
+
+void ContactSolver::build(std::span<const PairContact> contacts,
+                          std::span<const CachedManifold> previous,
+                          std::span<const BodyState> bodies, std::span<const BodyMass> masses,
+                          Real dt, Real gravity) {
+  records_.resize(contacts.size());
+  loads_.resize(contacts.size());
+  start_position_.resize(bodies.size());
+  start_orientation_.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    start_position_[i] = bodies[i].position;
+    start_orientation_[i] = bodies[i].orientation;
+  }
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const PairContact& pc = contacts[c];
+    ManifoldRecord& m = records_[c];
+    m = ManifoldRecord{};
+    const std::int32_t a = pc.body_a;
+    const std::int32_t b = pc.body_b;
+    m.body_a = a;
+    m.body_b = b;
+    m.count = pc.manifold.count;
+    m.normal = pc.manifold.normal;
+    orthonormal_basis(m.normal, m.tangent1, m.tangent2);
+    m.inv_mass_a = masses[std::size_t(a)].inverse_mass;
+    m.inv_mass_b = masses[std::size_t(b)].inverse_mass;
+    m.friction = pc.friction;
+    m.restitution = pc.restitution;
+    const BodyState& sa = bodies[std::size_t(a)];
+    const BodyState& sb = bodies[std::size_t(b)];
+    const Mat3 ra = sa.orientation.toRotationMatrix();
+    const Mat3 rb = sb.orientation.toRotationMatrix();
+    const Mat3 ia = ra * masses[std::size_t(a)].inverse_inertia * ra.transpose();
+    const Mat3 ib = rb * masses[std::size_t(b)].inverse_inertia * rb.transpose();
+    const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
+    std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
+    for (int k = 0; k < m.count; ++k) {
+      const ContactPoint& cp = pc.manifold.points[std::size_t(k)];
+      PointRecord& p = m.points[std::size_t(k)];
+      p.r_a = cp.position - sa.position;
+      p.r_b = cp.position - sb.position;
+      rn_a[std::size_t(k)] = p.r_a.cross(m.normal);
+      rn_b[std::size_t(k)] = p.r_b.cross(m.normal);
+      p.in_a = ia * rn_a[std::size_t(k)];
+      p.in_b = ib * rn_b[std::size_t(k)];
+      p.it1_a = ia * p.r_a.cross(m.tangent1);
+      p.it1_b = ib * p.r_b.cross(m.tangent1);
+      p.it2_a = ia * p.r_a.cross(m.tangent2);
+      p.it2_b = ib * p.r_b.cross(m.tangent2);
+      p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent1);
+      p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent2);
+      p.base_separation = -cp.depth;
+      p.feature = cp.feature.key();
+      p.local_a = sa.orientation.conjugate() * p.r_a;
+    }
+    for (int i = 0; i < m.count; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        m.delassus[std::size_t(i * (i + 1) / 2 + j)] =
+            inv_mass_sum + rn_a[std::size_t(i)].dot(m.points[std::size_t(j)].in_a) +
+            rn_b[std::size_t(i)].dot(m.points[std::size_t(j)].in_b);
+      }
+    }
+    // The load: what the warm start says the points carried, and at least the heavier body's
+    // weight shared by the points, so that a heavy body on a light one is known from the first
+    // step it touches (before a soft contact has sunk under it).
+    const Real heavier = std::max(m.inv_mass_a == 0 ? Real(0) : 1 / m.inv_mass_a,
+                                  m.inv_mass_b == 0 ? Real(0) : 1 / m.inv_mass_b);
+    const Real weight_share = m.count > 0 ? gravity * heavier / m.count : Real(0);
+    const CachedManifold* cached = find_cached(previous, a, b);
+    if (cached != nullptr)
+      warm_start_from(*cached, pc.match_distance, m);
+    ContactLoad& load = loads_[c];
+    load = ContactLoad{};
+    for (int k = 0; k < m.count; ++k) {
+      const Real diagonal = m.delassus[std::size_t(diagonal_index(k))];
+      load.inverse_effective_mass = std::max(load.inverse_effective_mass, diagonal);
+      load.warm = std::max(load.warm, m.points[std::size_t(k)].normal_impulse / dt * diagonal);
+      load.weight = std::max(load.weight, weight_share * diagonal);
+    }
+  }
+}
+
+void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
+                         std::span<const ContactSolverSettings> group_settings) {
+  const std::size_t group_count = group_settings.size();
+  groups_.assign(group_count, Group{});
+  runs_.clear();
+  lane_records_.clear();
+  point_count_ = 0;
+  color_count_ = 0;
+  overflow_count_ = 0;
+  const int lanes = kernels_->lanes;
+  slot_of_body_.assign(start_position_.size(), -1);
+  body_of_slot_.assign(1, -1);
+  for (std::size_t g = 0; g < group_count; ++g) {
+    Group& group = groups_[g];
+    group.settings = group_settings[g];
+    group.coefficients = coefficients_of(group.settings);
+    const Real per_substep = Real(1) / Real(std::max(1, group.settings.substeps));
+    // Slots of the group's moving bodies, in order of first appearance in its pairs.
+    group_records_.clear();
+    group.slot_begin = static_cast<std::int32_t>(body_of_slot_.size());
+    const auto slot_of = [&](std::int32_t body, Real inverse_mass) {
+      if (inverse_mass == 0)
+        return std::int32_t(0);
+      std::int32_t& slot = slot_of_body_[std::size_t(body)];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(body_of_slot_.size());
+        body_of_slot_.push_back(body);
+      }
+      return slot;
+    };
+    for (std::size_t c = 0; c < records_.size(); ++c) {
+      if (group_of_contact[c] != std::int32_t(g))
+        continue;
+      ManifoldRecord& m = records_[c];
+      m.slot_a = slot_of(m.body_a, m.inv_mass_a);
+      m.slot_b = slot_of(m.body_b, m.inv_mass_b);
+      for (int k = 0; k < m.count; ++k) {
+        PointRecord& p = m.points[std::size_t(k)];
+        p.normal_impulse *= per_substep;
+        p.tangent_impulse1 *= per_substep;
+        p.tangent_impulse2 *= per_substep;
+      }
+      group.point_count += m.count;
+      group.has_restitution = group.has_restitution || (m.restitution != 0 && m.count > 0);
+      group_records_.push_back(static_cast<std::int32_t>(c));
+    }
+    group.slot_end = static_cast<std::int32_t>(body_of_slot_.size());
+    point_count_ += group.point_count;
+
+    // Colours, then within a colour the manifolds with more points first, so that a bundle's
+    // lanes carry similar counts. A colour fills bundles of `lanes`; the overflow is solved one
+    // manifold per bundle, in sequence.
+    pair_slot_a_.resize(group_records_.size());
+    pair_slot_b_.resize(group_records_.size());
+    for (std::size_t i = 0; i < group_records_.size(); ++i) {
+      pair_slot_a_[i] = records_[std::size_t(group_records_[i])].slot_a;
+      pair_slot_b_[i] = records_[std::size_t(group_records_[i])].slot_b;
+    }
+    graph_.build(pair_slot_a_, pair_slot_b_, static_cast<std::int32_t>(body_of_slot_.size()));
+    color_count_ += graph_.color_count();
+    overflow_count_ += graph_.overflow_pairs();
+    group.bundle_begin = static_cast<std::int32_t>(lane_records_.size()) / lanes;
+    group.run_begin = static_cast<std::int32_t>(runs_.size());
+    for (const ContactGraph::Group& run : graph_.groups()) {
+      const std::size_t first = lane_records_.size();
+      if (!run.sequential) {
+        // Most points first: one pass per count, in the colour's order (stable, no buffer).
+        for (int points = kMaxManifoldPoints; points >= 0; --points) {
+          for (std::int32_t k = run.begin; k < run.end; ++k) {
+            const std::int32_t record = group_records_[std::size_t(graph_.order()[std::size_t(k)])];
+            if (records_[std::size_t(record)].count == points)
+              lane_records_.push_back(record);
+          }
+        }
+        while (lane_records_.size() % std::size_t(lanes) != 0)
+          lane_records_.push_back(-1);
+      } else {
+        // One manifold per bundle, in lane 0, solved in sequence.
+        for (std::int32_t k = run.begin; k < run.end; ++k) {
+          lane_records_.push_back(group_records_[std::size_t(graph_.order()[std::size_t(k)])]);
+          for (int l = 1; l < lanes; ++l)
+            lane_records_.push_back(-1);
+        }
+      }
+      runs_.push_back({static_cast<std::int32_t>(first) / lanes,
+                       static_cast<std::int32_t>(lane_records_.size()) / lanes});
+    }
+    group.run_end = static_cast<std::int32_t>(runs_.size());
+    group.bundle_end = static_cast<std::int32_t>(lane_records_.size()) / lanes;
+  }
+  bundle_count_ = static_cast<int>(lane_records_.size()) / lanes;
+  group_of_record_.assign(group_of_contact.begin(), group_of_contact.end());
+
+  velocities_.resize(body_of_slot_.size());
+  velocities_[0] = Velocity{};
+  motions_.assign(body_of_slot_.size(), Motion{});
+  const std::size_t bytes = std::size_t(bundle_count_) * kernels_->bundle_bytes;
+  if (bytes > bundle_capacity_) {
+    const std::size_t capacity = std::max(bytes, 2 * bundle_capacity_);
+    bundles_.reset(static_cast<std::byte*>(::operator new[](capacity, std::align_val_t(64))));
+    bundle_capacity_ = capacity;
+  }
+  kernels_->pack(records_.data(), lane_records_.data(), bundle_count_, bundles_.get());
+}
 
 void ContactSolver::prepare(std::span<const PairContact> contacts,
                             std::span<const CachedManifold> previous,
                             std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                             const ContactSolverSettings& settings) {
-  settings_ = settings;
-  points_.clear();
-  pairs_.clear();
-  pair_bodies_.clear();
-  detail::world_inverse_masses(bodies, masses, inverse_mass_, inverse_inertia_world_);
-
-  // Soft spring of angular frequency w and damping ratio z, discretised implicitly over the
-  // substep h: a1 = 2 z + h w, a2 = h w a1, a3 = 1 / (1 + a2). The bias velocity is
-  // (w / a1) * separation, and the impulse is scaled so the response does not depend on mass.
-  const Real h = settings.substep;
-  const Real omega = 2 * std::numbers::pi_v<Real> * settings.contact_hertz;
-  const Real a1 = 2 * settings.contact_damping_ratio + h * omega;
-  const Real a2 = h * omega * a1;
-  const Real a3 = Real(1) / (1 + a2);
-  bias_rate_ = a1 > 0 ? omega / a1 : Real(0);
-  mass_scale_ = a2 * a3;
-  impulse_scale_ = a3;
-
-  for (const PairContact& pc : contacts) {
-    const std::int32_t a = pc.body_a;
-    const std::int32_t b = pc.body_b;
-    PairInfo info{static_cast<std::int32_t>(points_.size()), pc.manifold.count};
-    const Vec3 normal = pc.manifold.normal;
-    Vec3 t1, t2;
-    orthonormal_basis(normal, t1, t2);
-    for (int k = 0; k < pc.manifold.count; ++k) {
-      const ContactPoint& cp = pc.manifold.points[k];
-      Point p;
-      detail::fill_contact_point(p, pc, cp, t1, t2, bodies, inverse_mass_, inverse_inertia_world_);
-      p.restitution = pc.restitution;
-      points_.push_back(p);
-    }
-    if (const CachedManifold* cached = find_cached(previous, a, b)) {
-      warm_start_from(*cached, pc.match_distance,
-                      std::span(points_).subspan(info.first_point, info.count));
-    }
-    pairs_.push_back(info);
-    pair_bodies_.push_back(a);
-    pair_bodies_.push_back(b);
-  }
+  build(contacts, previous, bodies, masses, settings.substep * Real(std::max(1, settings.substeps)),
+        0);
+  single_group_.assign(contacts.size(), 0);
+  pack(single_group_, std::span(&settings, 1));
 }
 
 // Each cached point lends its impulses to at most one new point: first to the point with the
 // same feature id, then, for points still unmatched, to the nearest within `match_distance`.
 void ContactSolver::warm_start_from(const CachedManifold& cached, Real match_distance,
-                                    std::span<Point> points) {
+                                    ManifoldRecord& m) {
   std::array<bool, kMaxManifoldPoints> used{};
   std::array<int, kMaxManifoldPoints> source;
   source.fill(-1);
-  for (std::size_t k = 0; k < points.size(); ++k) {
+  for (int k = 0; k < m.count; ++k) {
     for (int c = 0; c < cached.count; ++c) {
-      if (!used[c] && cached.points[c].feature == points[k].feature) {
-        used[c] = true;
-        source[k] = c;
+      if (!used[std::size_t(c)] &&
+          cached.points[std::size_t(c)].feature == m.points[std::size_t(k)].feature) {
+        used[std::size_t(c)] = true;
+        source[std::size_t(k)] = c;
         break;
       }
     }
   }
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (source[k] >= 0)
+  for (int k = 0; k < m.count; ++k) {
+    if (source[std::size_t(k)] >= 0)
       continue;
     Real best = match_distance;
     for (int c = 0; c < cached.count; ++c) {
-      const Real distance = (cached.points[c].local_point - points[k].local_a).norm();
-      if (!used[c] && distance < best) {
+      const Real distance =
+          (cached.points[std::size_t(c)].local_point - m.points[std::size_t(k)].local_a).norm();
+      if (!used[std::size_t(c)] && distance < best) {
         best = distance;
-        source[k] = c;
+        source[std::size_t(k)] = c;
       }
     }
-    if (source[k] >= 0)
-      used[source[k]] = true;
+    if (source[std::size_t(k)] >= 0)
+      used[std::size_t(source[std::size_t(k)])] = true;
   }
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (source[k] < 0)
+  for (int k = 0; k < m.count; ++k) {
+    if (source[std::size_t(k)] < 0)
       continue;
-    const CachedContactPoint& match = cached.points[source[k]];
-    Point& p = points[k];
+    const CachedContactPoint& match = cached.points[std::size_t(source[std::size_t(k)])];
+    PointRecord& p = m.points[std::size_t(k)];
     p.normal_impulse = match.normal_impulse;
-    p.tangent_impulse1 = match.friction_impulse.dot(p.tangent1);
-    p.tangent_impulse2 = match.friction_impulse.dot(p.tangent2);
+    p.tangent_impulse1 = match.friction_impulse.dot(m.tangent1);
+    p.tangent_impulse2 = match.friction_impulse.dot(m.tangent2);
   }
 }
 
-Real ContactSolver::separation(const Point& p, std::span<const BodyState> bodies) const {
-  const BodyState& a = bodies[p.a];
-  const BodyState& b = bodies[p.b];
-  const Vec3 anchor_a = a.position + a.orientation * p.local_a;
-  const Vec3 anchor_b = b.position + b.orientation * p.local_b;
-  return p.base_separation + (anchor_a - anchor_b).dot(p.normal);
-}
-
-Real ContactSolver::normal_velocity(const Point& p, std::span<const BodyState> bodies) {
-  const BodyState& a = bodies[p.a];
-  const BodyState& b = bodies[p.b];
-  return p.normal.dot(a.velocity - b.velocity) + p.rn_a.dot(a.angular_velocity) -
-         p.rn_b.dot(b.angular_velocity);
-}
-
-void ContactSolver::apply_normal(const Point& p, Real impulse, std::span<BodyState> bodies) {
-  BodyState& a = bodies[p.a];
-  BodyState& b = bodies[p.b];
-  a.velocity += (p.inv_mass_a * impulse) * p.normal;
-  a.angular_velocity += impulse * p.in_a;
-  b.velocity -= (p.inv_mass_b * impulse) * p.normal;
-  b.angular_velocity -= impulse * p.in_b;
-}
-
-void ContactSolver::apply_tangent(const Point& p, Real impulse1, Real impulse2,
-                                  std::span<BodyState> bodies) {
-  BodyState& a = bodies[p.a];
-  BodyState& b = bodies[p.b];
-  const Vec3 linear = impulse1 * p.tangent1 + impulse2 * p.tangent2;
-  a.velocity += p.inv_mass_a * linear;
-  a.angular_velocity += impulse1 * p.it1_a + impulse2 * p.it2_a;
-  b.velocity -= p.inv_mass_b * linear;
-  b.angular_velocity -= impulse1 * p.it1_b + impulse2 * p.it2_b;
-}
-
-void ContactSolver::warm_start(std::span<BodyState> bodies) const {
-  for (const Point& p : points_) {
-    apply_normal(p, p.normal_impulse, bodies);
-    apply_tangent(p, p.tangent_impulse1, p.tangent_impulse2, bodies);
+void ContactSolver::load_velocities(int group, std::span<const BodyState> bodies) {
+  const Group& g = groups_[std::size_t(group)];
+  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
+    const BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
+    Velocity& v = velocities_[std::size_t(s)];
+    for (int c = 0; c < 3; ++c) {
+      v.v[c] = b.velocity[c];
+      v.w[c] = b.angular_velocity[c];
+    }
   }
+}
+
+void ContactSolver::store_velocities(int group, std::span<BodyState> bodies) const {
+  const Group& g = groups_[std::size_t(group)];
+  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
+    BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
+    const Velocity& v = velocities_[std::size_t(s)];
+    b.velocity = Vec3(v.v[0], v.v[1], v.v[2]);
+    b.angular_velocity = Vec3(v.w[0], v.w[1], v.w[2]);
+  }
+}
+
+void ContactSolver::update_separations(int group, std::span<const BodyState> bodies) {
+  const Group& g = groups_[std::size_t(group)];
+  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
+    const std::size_t body = std::size_t(body_of_slot_[std::size_t(s)]);
+    const BodyState& b = bodies[body];
+    Motion& m = motions_[std::size_t(s)];
+    const Vec3 dp = b.position - start_position_[body];
+    // The rotation since the start of the step, less the identity, written so that a small
+    // rotation loses no digits to 1 - 1.
+    const Quat q = b.orientation * start_orientation_[body].conjugate();
+    const Real x = q.x(), y = q.y(), z = q.z(), w = q.w();
+    m.dp[0] = dp.x();
+    m.dp[1] = dp.y();
+    m.dp[2] = dp.z();
+    Real* r = m.rotation_less_identity;
+    r[0] = -2 * (y * y + z * z);
+    r[1] = 2 * (x * y - w * z);
+    r[2] = 2 * (x * z + w * y);
+    r[3] = 2 * (x * y + w * z);
+    r[4] = -2 * (x * x + z * z);
+    r[5] = 2 * (y * z - w * x);
+    r[6] = 2 * (x * z - w * y);
+    r[7] = 2 * (y * z + w * x);
+    r[8] = -2 * (x * x + y * y);
+  }
+  kernels_->update_separations(bundles_.get(), g.bundle_begin, g.bundle_end, motions_.data());
+}
+
+void ContactSolver::warm_start(int group) {
+  const Group& g = groups_[std::size_t(group)];
+  kernels_->warm_start(bundles_.get(), g.bundle_begin, g.bundle_end, velocities_.data());
+  velocities_[0] = Velocity{};
+}
+
+void ContactSolver::solve(int group, bool use_bias) {
+  // A colour at a time; the static slot is written by many lanes (with zero changes) and reset
+  // after each colour, so that nothing non-finite can spread through it.
+  const Group& g = groups_[std::size_t(group)];
+  for (std::int32_t r = g.run_begin; r < g.run_end; ++r) {
+    const Run& run = runs_[std::size_t(r)];
+    kernels_->solve(bundles_.get(), run.begin, run.end, velocities_.data(), g.coefficients,
+                    use_bias);
+    velocities_[0] = Velocity{};
+  }
+}
+
+int ContactSolver::resolve_impacts(int group) {
+  const Group& g = groups_[std::size_t(group)];
+  if (!g.has_restitution)
+    return 0;
+  return kernels_->resolve_impacts(bundles_.get(), g.bundle_begin, g.bundle_end, velocities_.data(),
+                                   g.coefficients, g.point_count);
+}
+
+void ContactSolver::apply_restitution(int group) {
+  const Group& g = groups_[std::size_t(group)];
+  if (g.has_restitution) {
+    kernels_->apply_restitution(bundles_.get(), g.bundle_begin, g.bundle_end, velocities_.data(),
+                                g.coefficients);
+  }
+}
+
+void ContactSolver::store(std::vector<CachedManifold>& cache) {
+  kernels_->unpack(bundles_.get(), lane_records_.data(), bundle_count_, records_.data());
+  cache.resize(records_.size());
+  for (std::size_t i = 0; i < records_.size(); ++i) {
+    const ManifoldRecord& r = records_[i];
+    const Real steps =
+        Real(std::max(1, groups_[std::size_t(group_of_record_[i])].settings.substeps));
+    CachedManifold& m = cache[i];
+    m = CachedManifold{};
+    m.body_a = r.body_a;
+    m.body_b = r.body_b;
+    m.count = r.count;
+    for (int k = 0; k < r.count; ++k) {
+      const PointRecord& p = r.points[std::size_t(k)];
+      CachedContactPoint& out = m.points[std::size_t(k)];
+      out.feature = p.feature;
+      out.local_point = p.local_a;
+      out.normal_impulse = p.normal_impulse * steps;
+      out.friction_impulse =
+          (r.tangent1 * p.tangent_impulse1 + r.tangent2 * p.tangent_impulse2) * steps;
+    }
+  }
+}
+
+void ContactSolver::warm_start(std::span<BodyState> bodies) {
+  load_velocities(0, bodies);
+  warm_start(0);
+  store_velocities(0, bodies);
 }
 
 void ContactSolver::solve(std::span<BodyState> bodies, bool use_bias) {
-  const Real inv_h = Real(1) / settings_.substep;
-  for (const PairInfo& pair : pairs_) {
-    const std::span<Point> points = std::span(points_).subspan(pair.first_point, pair.count);
-    // Normal constraints first, so friction works with this pass's normal impulses.
-    for (Point& p : points) {
-      const Real s = separation(p, bodies);
-      Real bias = 0;
-      Real mass_scale = 1;
-      Real impulse_scale = 0;
-      if (s > 0) {
-        bias = s * inv_h;  // speculative: close the gap within the substep, no further
-      } else if (use_bias) {
-        const Real excess = std::min(s + settings_.penetration_slop, Real(0));
-        bias = std::max(bias_rate_ * excess, -settings_.max_push_velocity);
-        mass_scale = mass_scale_;
-        impulse_scale = impulse_scale_;
-      }
-      const Real vn = normal_velocity(p, bodies);
-      const Real delta =
-          -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
-      const Real new_impulse = std::max(p.normal_impulse + delta, Real(0));
-      const Real applied = new_impulse - p.normal_impulse;
-      p.normal_impulse = new_impulse;
-      if (!p.touched && new_impulse > 0) {
-        // The first push of this step: the normal velocity just before it is the impact
-        // velocity that restitution reflects.
-        p.touched = true;
-        p.impact_velocity = vn;
-      }
-      apply_normal(p, applied, bodies);
-    }
-    for (Point& p : points) {
-      const BodyState& a = bodies[p.a];
-      const BodyState& b = bodies[p.b];
-      const Vec3 dv = a.velocity - b.velocity;
-      const Real v1 =
-          p.tangent1.dot(dv) + p.rt1_a.dot(a.angular_velocity) - p.rt1_b.dot(b.angular_velocity);
-      const Real v2 =
-          p.tangent2.dot(dv) + p.rt2_a.dot(a.angular_velocity) - p.rt2_b.dot(b.angular_velocity);
-      const Real max_friction = p.friction * p.normal_impulse;
-      Real new1 = p.tangent_impulse1 - v1 * p.tangent_mass1;
-      Real new2 = p.tangent_impulse2 - v2 * p.tangent_mass2;
-      const Real magnitude = std::sqrt(new1 * new1 + new2 * new2);
-      if (magnitude > max_friction) {
-        // Clamp to the friction disc, not a box, so sliding friction is isotropic.
-        const Real scale = magnitude > 0 ? max_friction / magnitude : Real(0);
-        new1 *= scale;
-        new2 *= scale;
-      }
-      apply_tangent(p, new1 - p.tangent_impulse1, new2 - p.tangent_impulse2, bodies);
-      p.tangent_impulse1 = new1;
-      p.tangent_impulse2 = new2;
-    }
-  }
+  load_velocities(0, bodies);
+  update_separations(0, bodies);
+  solve(0, use_bias);
+  store_velocities(0, bodies);
 }
 
 int ContactSolver::resolve_impacts(std::span<BodyState> bodies) {
-  const Real h = settings_.substep;
-  int bounces = 0;
-  // Each sweep can pass the impact one pair further along a chain whose pairs are listed in
-  // the opposite order; a point bounces at most once, so the number of points bounds the sweeps.
-  const std::size_t max_sweeps = points_.size() + 1;
-  for (std::size_t sweep = 0; sweep < max_sweeps; ++sweep) {
-    bool any = false;
-    for (Point& p : points_) {
-      if (p.restitution == 0 || p.bounced)
-        continue;
-      const Real vn = normal_velocity(p, bodies);
-      if (vn > -settings_.restitution_threshold || separation(p, bodies) + vn * h > 0)
-        continue;
-      p.bounced = true;
-      p.touched = true;
-      p.impact_velocity = vn;
-      apply_normal(p, -p.normal_mass * (1 + p.restitution) * vn, bodies);
-      any = true;
-      ++bounces;
-    }
-    if (!any)
-      break;
-  }
+  load_velocities(0, bodies);
+  const int bounces = resolve_impacts(0);
+  store_velocities(0, bodies);
   return bounces;
 }
 
-// Called after each substep's relax pass. A point whose first push in this step met an
-// approach faster than the threshold leaves with -e times that impact velocity, once per step.
-// Bouncing in the substep of impact, not at the end of the step, keeps the bounce's timing
-// error to one substep. The bounce impulse is not added to the accumulated impulse: that one is
-// re-applied by every substep's warm start, and the bounce must happen once.
 void ContactSolver::apply_restitution(std::span<BodyState> bodies) {
-  for (Point& p : points_) {
-    if (p.restitution == 0 || !p.touched || p.bounced ||
-        p.impact_velocity > -settings_.restitution_threshold) {
-      continue;
-    }
-    p.bounced = true;
-    const Real vn = normal_velocity(p, bodies);
-    const Real impulse = -p.normal_mass * (vn + p.restitution * p.impact_velocity);
-    if (impulse > 0)
-      apply_normal(p, impulse, bodies);
-  }
-}
-
-void ContactSolver::store(std::vector<CachedManifold>& cache) const {
-  detail::store_manifolds(pairs_, pair_bodies_, points_, cache);
+  load_velocities(0, bodies);
+  apply_restitution(0);
+  store_velocities(0, bodies);
 }
 
 }  // namespace tumble

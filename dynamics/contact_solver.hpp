@@ -1,34 +1,47 @@
-// Contact solver: sequential impulses with soft contacts and substepping ("soft step").
+// Contact solver: sequential impulses with soft contacts and substepping ("soft step"), solved a
+// manifold at a time, several manifolds side by side in vector lanes.
 //
 // Sources: Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005 (accumulated, clamped
-// impulses and warm starting); Catto, "Solver2D" (2024) and Box2D v3's solver design (soft
-// step: substeps with a soft, mass-independent contact spring, then a relax pass that removes
-// the spring's bias velocity so that pushing out penetration adds no energy).
+// impulses and warm starting); Catto, "Solver2D" (2024) and Box2D v3's solver (soft step:
+// substeps with a soft, mass-independent contact spring, then a relax pass that removes the
+// spring's bias velocity so that pushing out penetration adds no energy); Catto, "SIMD Matters"
+// (2024) and Box2D v3's wide contact solver (graph colouring, constraints in structure of arrays
+// solved a colour at a time, a compact body-velocity array); Box2D v2's block solver (Catto,
+// b2ContactSolver::SolveVelocityConstraints) for solving a manifold's normal rows together.
 //
-// Per contact point: a non-penetration constraint whose bias is speculative when the points are
-// apart (a gap may close within the substep but not be overshot) and a critically over-damped
-// spring of `contact_hertz` when they penetrate beyond the slop; Coulomb friction clamped to the
-// disc mu * lambda_n (two tangent directions clamped together, so sliding is isotropic);
-// restitution applied once per step, in the substep of impact, to points that met an approach
-// faster than the threshold. Impulses are warm-started by feature id (nearest point as
-// fallback) from the previous step. Separation is tracked through the substeps from the bodies'
-// motion, without running collision again.
+// Per manifold: the normal rows of all its points are solved together, as one small linear
+// complementarity problem (all points pushing; when one would pull, again without it), so that a
+// box on a face feels one push spread by the geometry instead of four in a fixed order, which
+// tips it; then Coulomb friction point by point, clamped to the disc mu * lambda_n. A point apart
+// may close its gap within the substep (speculative); a point penetrating deeper than the slop is
+// pushed out by a spring of `contact_hertz` and `contact_damping_ratio`, at most
+// `max_push_velocity`. Restitution is applied once per step, in the substep of impact, to points
+// that met an approach faster than the threshold. Impulses are warm-started by feature id (nearest
+// point as fallback) from the previous step. Separation is tracked through the substeps from the
+// bodies' motion, without running collision again. docs/architecture.md tells the whole step.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "collision/contact.hpp"
 #include "dynamics/contact_cache.hpp"
+#include "dynamics/contact_graph.hpp"
 #include "dynamics/rigid_body.hpp"
-#include "dynamics/solver_point.hpp"
 
 namespace tumble {
 
+// The settings of one group of contacts for one step (every island of a group shares its
+// substep count: docs/architecture.md, "Substeps per island").
 struct ContactSolverSettings {
   Real substep = Real(1) / 240;            // h, one substep [s]
-  Real penetration_slop = Real(0.0005);    // penetration left alone [m]
+  int substeps = 4;                        // substeps per step (the cache holds step impulses)
+  Real penetration_slop = Real(0.0001);    // penetration left alone [m]
   Real contact_hertz = 30;                 // stiffness of the push-out spring [Hz]
+  Real static_contact_hertz = 60;          // the same against a static body [Hz]
   Real contact_damping_ratio = 10;         // its damping ratio [1]
   Real max_push_velocity = 3;              // fastest push-out [m/s]
   Real restitution_threshold = Real(0.2);  // slower approaches do not bounce [m/s]
@@ -48,66 +61,196 @@ struct PairContact {
   Manifold manifold;
 };
 
+// What loads a contact's points, per unit effective mass (force times the point's J M^-1 J^T).
+struct ContactLoad {
+  Real warm = 0;    // the largest warm-start impulse over dt [m/s^2]
+  Real weight = 0;  // the heavier body's weight shared by the points [m/s^2]
+  // The largest J M^-1 J^T of the points [1/kg]: a force F on the point loads it F times this.
+  Real inverse_effective_mass = 0;
+};
+
+namespace detail {
+struct WideKernels;
+}
+
 class ContactSolver {
  public:
-  // Builds the constraints for `contacts` (sorted by pair) from the bodies' poses at the start
-  // of the step, and takes warm-start impulses from `previous` (sorted by pair).
+  ContactSolver();
+  ~ContactSolver();
+  ContactSolver(ContactSolver&&) noexcept;
+  ContactSolver& operator=(ContactSolver&&) noexcept;
+
+  // First half of the preparation: the constraints for `contacts` (sorted by pair) from the
+  // bodies' poses at the start of the step, with warm-start impulses from `previous` (sorted by
+  // pair), a step of `dt` long under gravity of magnitude `gravity` [m/s^2].
+  void build(std::span<const PairContact> contacts, std::span<const CachedManifold> previous,
+             std::span<const BodyState> bodies, std::span<const BodyMass> masses, Real dt,
+             Real gravity);
+  // For each contact of the last build (in its order), the forces that load its points per unit
+  // effective mass [m/s^2]. A soft contact of angular frequency omega settles load / omega^2
+  // deep, so the world picks an island's substeps from them (docs/architecture.md, "Substeps
+  // per island").
+  std::span<const ContactLoad> contact_loads() const { return loads_; }
+  // Second half: contact c is solved in group group_of_contact[c], with the substeps and
+  // stiffness of group_settings[that group]; each group's pairs are coloured and packed into
+  // vector lanes. Groups must not share a moving body.
+  void pack(std::span<const std::int32_t> group_of_contact,
+            std::span<const ContactSolverSettings> group_settings);
+  // Both halves, every contact in one group.
   void prepare(std::span<const PairContact> contacts, std::span<const CachedManifold> previous,
                std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                const ContactSolverSettings& settings);
+
+  int group_count() const { return static_cast<int>(groups_.size()); }
+
+  // The solver works on its own compact copy of the velocities of the bodies a group's contacts
+  // touch: load before the passes, store after them.
+  void load_velocities(int group, std::span<const BodyState> bodies);
+  void store_velocities(int group, std::span<BodyState> bodies) const;
+  // Each point's separation now, from how far its bodies moved since the start of the step
+  // (call after the positions moved).
+  void update_separations(int group, std::span<const BodyState> bodies);
+
   // Applies the accumulated impulses (start of every substep).
-  void warm_start(std::span<BodyState> bodies) const;
-  // One Gauss-Seidel pass. With `use_bias`, penetration is pushed out by the soft spring;
-  // without (the relax pass), the constraint is rigid and removes the push-out velocity.
-  void solve(std::span<BodyState> bodies, bool use_bias);
+  void warm_start(int group);
+  // One pass over the group's manifolds, a colour at a time. With `use_bias`, penetration is
+  // pushed out by the soft spring; without (the relax pass), the constraint is rigid and removes
+  // the push-out velocity.
+  void solve(int group, bool use_bias);
   // Before each substep's soft passes: points that approach faster than the restitution
   // threshold and whose gap closes within the substep bounce now, one pair at a time, in
   // sweeps until no such point is left (each point at most once per step). Resolving impacts
-  // pairwise and in sequence, before the inelastic passes can spread the impact over every
-  // touching body, is what lets momentum pass down a row of touching bodies (Newton's cradle);
-  // each pairwise bounce with e <= 1 can only remove energy. Returns the bounces made.
-  int resolve_impacts(std::span<BodyState> bodies);
+  // pairwise and in sequence, before the passes can spread the impact over every touching
+  // body, is what lets momentum pass down a row of touching bodies (Newton's cradle); each
+  // pairwise bounce with e <= 1 can only remove energy. Returns the bounces made.
+  int resolve_impacts(int group);
   // After each substep's relax pass: points that met an approach faster than the threshold in
   // the passes (not caught by resolve_impacts) leave with -e times it.
-  void apply_restitution(std::span<BodyState> bodies);
-  // Writes the accumulated impulses, for the next step's warm start.
-  void store(std::vector<CachedManifold>& cache) const;
+  void apply_restitution(int group);
+  // Writes the accumulated impulses (over the whole step), for the next step's warm start, into
+  // `cache` in pair order.
+  void store(std::vector<CachedManifold>& cache);
 
-  int point_count() const { return static_cast<int>(points_.size()); }
+  // The same passes on BodyState directly for a solver prepared with one group (load, act,
+  // store): for tests and single calls.
+  void warm_start(std::span<BodyState> bodies);
+  void solve(std::span<BodyState> bodies, bool use_bias);
+  int resolve_impacts(std::span<BodyState> bodies);
+  void apply_restitution(std::span<BodyState> bodies);
+
+  int point_count() const { return point_count_; }
+  int manifold_count() const { return static_cast<int>(records_.size()); }
+  // Colours used over all groups, and pairs that found no colour, in the last pack.
+  int color_count() const { return color_count_; }
+  int overflow_count() const { return overflow_count_; }
+  // Bytes held for constraints and bodies (capacity), for the benchmark's memory figures.
+  std::size_t bytes_reserved() const;
 
  private:
-  struct Point : detail::SolverPoint {
-    Real restitution = 0;
-    Real impact_velocity = 0;  // normal velocity just before the step's first push
-    bool touched = false;      // pushed at least once this step
-    bool bounced = false;      // restitution applied this step
+  struct PointRecord {
+    Vec3 r_a = Vec3::Zero();  // lever arms at the start of the step (world)
+    Vec3 r_b = Vec3::Zero();
+    Vec3 in_a = Vec3::Zero();  // I^-1 (r x d) on A and B, per direction
+    Vec3 in_b = Vec3::Zero();
+    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
+    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
+    Real tangent_mass1 = 0, tangent_mass2 = 0;
+    Real base_separation = 0;  // -depth: both anchors start at the contact point
+    // Accumulated impulses: over the step after build(), per substep once packed.
+    Real normal_impulse = 0;
+    Real tangent_impulse1 = 0, tangent_impulse2 = 0;
+    std::uint32_t feature = 0;
+    Vec3 local_a = Vec3::Zero();  // the contact point in A's frame, for the cache
   };
 
-  struct PairInfo {
-    std::int32_t first_point = 0;
+ public:
+  // The width-independent record of one manifold, made by build() and packed into lanes.
+  struct ManifoldRecord {
+    std::int32_t body_a = 0, body_b = 0;
+    std::int32_t slot_a = 0, slot_b = 0;  // in the compact velocity array; 0 = static
     std::int32_t count = 0;
+    Vec3 normal = Vec3::UnitZ();
+    Vec3 tangent1 = Vec3::UnitX();
+    Vec3 tangent2 = Vec3::UnitY();
+    Real inv_mass_a = 0, inv_mass_b = 0;
+    Real friction = 0, restitution = 0;
+    // J M^-1 J^T over the normal rows, lower triangle packed row by row: (0,0), (1,0), (1,1),
+    // (2,0), (2,1), (2,2), (3,0), ...
+    std::array<Real, 10> delassus{};
+    std::array<PointRecord, kMaxManifoldPoints> points{};
   };
 
-  static void warm_start_from(const CachedManifold& cached, Real match_distance,
-                              std::span<Point> points);
-  Real separation(const Point& p, std::span<const BodyState> bodies) const;
-  // Velocity along the normal / a tangent, and an impulse along them, from the precomputed rows.
-  static Real normal_velocity(const Point& p, std::span<const BodyState> bodies);
-  static void apply_normal(const Point& p, Real impulse, std::span<BodyState> bodies);
-  static void apply_tangent(const Point& p, Real impulse1, Real impulse2,
-                            std::span<BodyState> bodies);
+  // The solver's velocity of one body, padded to a cache line so lanes load it whole.
+  struct alignas(64) Velocity {
+    Real v[3];
+    Real w[3];
+    Real pad[2];
+  };
+  // How far a body moved since the start of the step: displacement and rotation less identity.
+  struct alignas(32) Motion {
+    Real dp[3];
+    Real rotation_less_identity[9];  // row-major
+  };
+  // Soft-constraint coefficients of the substep (Catto, Solver2D).
+  struct Coefficients {
+    Real h = 0;
+    Real inv_h = 0;
+    // [0] pairs of two moving bodies, [1] pairs with a static body.
+    Real bias_rate[2] = {0, 0};        // omega / (2 zeta + h omega) [1/s]
+    Real soft_compliance[2] = {0, 0};  // 1 / (h omega (2 zeta + h omega)): c = A_ii * this
+    Real slop = 0;
+    Real max_push = 0;
+    Real restitution_threshold = 0;
+  };
 
-  ContactSolverSettings settings_;
-  // Soft-constraint coefficients for the substep (Catto, Solver2D: bias rate, mass scale,
-  // impulse scale).
-  Real bias_rate_ = 0;
-  Real mass_scale_ = 1;
-  Real impulse_scale_ = 0;
-  std::vector<Point> points_;
-  std::vector<PairInfo> pairs_;
-  std::vector<std::int32_t> pair_bodies_;  // a, b per pair, for store()
-  std::vector<Real> inverse_mass_;
-  std::vector<Mat3> inverse_inertia_world_;
+ private:
+  static void warm_start_from(const CachedManifold& cached, Real match_distance, ManifoldRecord& m);
+
+  struct Run {
+    std::int32_t begin, end;  // bundles of one colour, or of the overflow (one pair each)
+  };
+  struct Group {
+    ContactSolverSettings settings;
+    Coefficients coefficients;
+    std::int32_t slot_begin = 1, slot_end = 1;  // its moving bodies
+    std::int32_t bundle_begin = 0, bundle_end = 0;
+    std::int32_t run_begin = 0, run_end = 0;
+    int point_count = 0;
+    bool has_restitution = false;
+  };
+
+  const detail::WideKernels* kernels_;
+  std::vector<ManifoldRecord> records_;  // in contact (pair) order
+  std::vector<ContactLoad> loads_;
+  std::vector<std::int32_t> group_of_record_;
+  std::vector<Group> groups_;
+  std::vector<Run> runs_;
+  int bundle_count_ = 0;
+  int point_count_ = 0;
+  int color_count_ = 0;
+  int overflow_count_ = 0;
+
+  // Lanes: bundles of kernels_->lanes manifolds, group by group and colour by colour, in an
+  // aligned buffer.
+  struct AlignedFree {
+    void operator()(std::byte* p) const;
+  };
+  std::unique_ptr<std::byte[], AlignedFree> bundles_;
+  std::size_t bundle_capacity_ = 0;         // bytes
+  std::vector<std::int32_t> lane_records_;  // bundle b, lane l: record index, or -1
+
+  // Slots: 0 is every static body; then each moving body the contacts touch, group by group, in
+  // order of first appearance in the pairs.
+  std::vector<std::int32_t> slot_of_body_;
+  std::vector<std::int32_t> body_of_slot_;  // [0] unused
+  std::vector<Velocity> velocities_;
+  std::vector<Motion> motions_;
+  std::vector<Vec3> start_position_;  // per body of the last build
+  std::vector<Quat> start_orientation_;
+  ContactGraph graph_;
+  std::vector<std::int32_t> group_records_;  // scratch: one group's records in pair order
+  std::vector<std::int32_t> single_group_;   // prepare(): every contact in group 0
+  std::vector<std::int32_t> pair_slot_a_, pair_slot_b_;
 };
 
 }  // namespace tumble

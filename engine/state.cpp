@@ -18,6 +18,8 @@ State initial_state(const Scene& scene) {
   }
   s.slow_time.assign(scene.bodies.size(), 0);
   s.asleep.assign(scene.bodies.size(), 0);
+  s.substep_level.assign(scene.bodies.size(), 0);
+  s.substep_hold.assign(scene.bodies.size(), 0);
   return s;
 }
 
@@ -80,6 +82,11 @@ std::uint64_t state_hash(const State& state) {
   for (std::size_t i = 0; i < state.asleep.size(); ++i) {
     h.add_u64(state.asleep[i]);
     h.add(state.slow_time[i]);
+  }
+  h.add_u64(state.substep_level.size());
+  for (std::size_t i = 0; i < state.substep_level.size(); ++i) {
+    h.add_u64(state.substep_level[i]);
+    h.add_u64(i < state.substep_hold.size() ? state.substep_hold[i] : 0);
   }
   return h.value();
 }

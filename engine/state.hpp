@@ -20,6 +20,11 @@ struct State {
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
   std::vector<Real> slow_time;
   std::vector<std::uint8_t> asleep;
+  // Substeps per island (docs/architecture.md): each body's island ran the scene's substeps
+  // times 2^substep_level last step, and keeps that level for substep_hold more steps before it
+  // may step down. One each per body.
+  std::vector<std::uint8_t> substep_level;
+  std::vector<std::uint8_t> substep_hold;
 };
 
 // The state a scene starts in: bodies where the scene puts them, an empty contact cache.

@@ -1,5 +1,7 @@
 #include "engine/step_statistics.hpp"
 
+#include <algorithm>
+
 namespace tumble {
 
 std::string_view stage_name(Stage stage) {
@@ -34,7 +36,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   swept_bodies += o.swept_bodies;
   stopped_bodies += o.stopped_bodies;
   ccd_candidate_pairs += o.ccd_candidate_pairs;
-  state_hash = o.state_hash;  // the latest step's
+  max_substeps = std::max(max_substeps, o.max_substeps);
 }
 
 }  // namespace tumble

@@ -31,7 +31,7 @@ struct StepStatistics {
   std::int64_t swept_bodies = 0;         // bodies swept by continuous collision detection
   std::int64_t stopped_bodies = 0;       // of those, stopped at a time of impact
   std::int64_t ccd_candidate_pairs = 0;  // pairs with a swept body whose motion boxes overlap
-  std::uint64_t state_hash = 0;          // state_hash() of the State after the step
+  int max_substeps = 0;                  // the most substeps any island took (the largest seen)
 
   void accumulate(const StepStatistics& other);
 };

@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <numbers>
 
 #include "collision/broad_phase_factory.hpp"
 #include "collision/narrow_phase.hpp"
@@ -46,6 +48,12 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   }
   carries_.resize(n);
   speculative_margin_.resize(n);
+  // At most one group per doubling of the substeps (a count is a power of two times the base,
+  // at most 1000): room for all of them now, so that a new group never allocates mid-run.
+  constexpr std::size_t kMostGroups = 11;
+  group_settings_.reserve(kMostGroups);
+  group_body_start_.reserve(kMostGroups + 1);
+  group_fill_.reserve(kMostGroups + 1);
   shape_poses_.resize(n);
   broad_phase_type_ = choose_broad_phase(scene_->world.broadphase, *scene_);
   penalty_substeps_ = std::max(1, scene_->world.substeps);
@@ -72,6 +80,8 @@ void World::set_state(const State& state) {
   // A state made by hand may leave the sleep records out: nothing sleeps then.
   state_.slow_time.resize(state_.bodies.size(), 0);
   state_.asleep.resize(state_.bodies.size(), 0);
+  state_.substep_level.resize(state_.bodies.size(), 0);
+  state_.substep_hold.resize(state_.bodies.size(), 0);
   rebuild_broad_phase();
 }
 
@@ -105,20 +115,20 @@ void World::step() {
     step_penalty(w.dt);
     return;
   }
-  const int substeps = std::max(1, w.substeps);
-  const Real h = w.dt / substeps;
-
   update_bounds(w.dt);
   find_candidate_pairs();
   collide_candidate_pairs();
   wake_touched_islands();
-  prepare_contacts(h);
-  for (int s = 0; s < substeps; ++s) {
-    integrate_velocities(h);
-    solve_contacts(/*use_bias=*/true, w.iterations);
-    integrate_positions(h);
-    solve_contacts(/*use_bias=*/false, w.relax_iterations);
-    apply_restitution();
+  prepare_contacts();
+  for (int g = 0; g < static_cast<int>(group_settings_.size()); ++g) {
+    const ContactSolverSettings& group = group_settings_[std::size_t(g)];
+    for (int s = 0; s < group.substeps; ++s) {
+      integrate_velocities(g, group.substep);
+      solve_contacts(g, /*use_bias=*/true, w.iterations);
+      integrate_positions(g, group.substep);
+      update_separations(g);
+      solve_contacts(g, /*use_bias=*/false, w.relax_iterations);
+    }
   }
   sweep_fast_bodies();
   finish_contacts();
@@ -127,7 +137,6 @@ void World::step() {
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
   state_.time = static_cast<Real>(state_.step) * w.dt;
-  current_.state_hash = state_hash(state_);
   last_step_ = current_;
 }
 
@@ -152,8 +161,15 @@ void World::step_penalty(Real dt) {
                             settings);
     current_.contact_points += penalty_solver_.point_count();
   }
+  // The penalty solver integrates every moving body in one group.
+  group_bodies_.clear();
+  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    if (!scene_->bodies[i].is_static)
+      group_bodies_.push_back(static_cast<std::int32_t>(i));
+  }
+  group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
   for (int s = 0; s < substeps; ++s) {
-    integrate_velocities(h);
+    integrate_velocities(0, h);
     {
       StageTimer timer(current_, Stage::solve);
       penalty_solver_.begin_substep(state_.bodies);
@@ -165,7 +181,7 @@ void World::step_penalty(Real dt) {
           break;
       }
     }
-    integrate_positions(h);
+    integrate_positions(0, h);
   }
   {
     StageTimer timer(current_, Stage::solve);
@@ -175,7 +191,6 @@ void World::step_penalty(Real dt) {
   update_sleep(dt);
   state_.step += 1;
   state_.time = static_cast<Real>(state_.step) * w.dt;
-  current_.state_hash = state_hash(state_);
   last_step_ = current_;
 }
 
@@ -270,10 +285,12 @@ void World::sweep_fast_bodies() {
   current_.stopped_bodies += counts.stopped_bodies;
 }
 
-void World::integrate_velocities(Real h) {
+void World::integrate_velocities(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_velocities);
   const Vec3 g = scene_->world.gravity;
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+  for (std::int32_t k = group_body_start_[std::size_t(group)];
+       k < group_body_start_[std::size_t(group) + 1]; ++k) {
+    const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
     if (state_.asleep[i] != 0)
       continue;
     integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
@@ -375,35 +392,192 @@ void World::collide_candidate_pairs() {
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
 }
 
-void World::prepare_contacts(Real h) {
+void World::prepare_contacts() {
   StageTimer timer(current_, Stage::solve);
-  const WorldSettings& w = scene_->world;
-  ContactSolverSettings settings;
-  settings.substep = h;
-  settings.penetration_slop = w.penetration_slop;
-  // A spring stiffer than a quarter of the substep rate is not resolved by the substeps.
-  settings.contact_hertz = std::min(w.contact_hertz, Real(0.25) / h);
-  settings.contact_damping_ratio = w.contact_damping_ratio;
-  settings.max_push_velocity = w.max_push_velocity;
-  settings.restitution_threshold = w.restitution_threshold;
-  solver_.prepare(contacts_, state_.contacts, state_.bodies, masses_, settings);
+  solver_.build(contacts_, state_.contacts, state_.bodies, masses_, scene_->world.dt,
+                scene_->world.gravity.norm());
+  choose_substeps();
+  solver_.pack(group_of_contact_, group_settings_);
   current_.contact_points += solver_.point_count();
 }
 
-void World::solve_contacts(bool use_bias, int passes) {
+// Substeps per island (docs/architecture.md). A soft contact of angular frequency omega settles
+// load / (m_eff omega^2) deep under its load; omega grows with the substep rate (an eighth of it
+// between moving bodies, a quarter against a static one), so an island whose warm-started load
+// would sink a contact deeper than the sag tolerance doubles its substeps until it does not, up
+// to max_substeps. Islands with the same count form one group, solved together.
+void World::choose_substeps() {
+  const WorldSettings& w = scene_->world;
+  const auto& bodies = scene_->bodies;
+  const std::size_t n = state_.bodies.size();
+  const int base = std::max(1, w.substeps);
+  const int cap = std::max(base, w.max_substeps);
+  int top_level = 0;
+  while ((base << (top_level + 1)) <= cap)
+    ++top_level;
+  islands_.reset(n);
+  for (const PairContact& pc : contacts_) {
+    if (!bodies[std::size_t(pc.body_a)].is_static && !bodies[std::size_t(pc.body_b)].is_static)
+      islands_.join(pc.body_a, pc.body_b);
+  }
+  // Per island root: the level its loads need now, the level it had, and its mass (a contact in
+  // an island at rest carries at most the island's weight; more is an impact, which needs no
+  // stiffer spring to hold it up).
+  level_needed_.assign(n, 0);
+  level_before_.assign(n, 0);
+  hold_before_.assign(n, 0);
+  island_mass_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bodies[i].is_static)
+      continue;
+    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    level_before_[root] = std::max(level_before_[root], state_.substep_level[i]);
+    hold_before_[root] = std::max(hold_before_[root], state_.substep_hold[i]);
+    if (masses_[i].inverse_mass > 0)
+      island_mass_[root] += 1 / masses_[i].inverse_mass;
+  }
+  const std::span<const ContactLoad> load = solver_.contact_loads();
+  if (!w.contact_hertz) {
+    constexpr Real kPi = std::numbers::pi_v<Real>;
+    const Real gravity = w.gravity.norm();
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+      const PairContact& pc = contacts_[c];
+      const bool a_static = bodies[std::size_t(pc.body_a)].is_static;
+      const bool b_static = bodies[std::size_t(pc.body_b)].is_static;
+      const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
+      const std::size_t root = std::size_t(islands_.root(moving));
+      const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
+                                            : bounding_radii_[std::size_t(pc.body_a)],
+                                   b_static ? bounding_radii_[std::size_t(pc.body_a)]
+                                            : bounding_radii_[std::size_t(pc.body_b)]);
+      const Real tolerance = w.sag_tolerance * radius;
+      if (!(tolerance > 0))
+        continue;
+      const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
+      const Real needed_load = std::max(load[c].weight, std::min(load[c].warm, at_rest));
+      if (!(needed_load > 0))
+        continue;
+      // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
+      const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
+      const Real needed = per_substep * std::sqrt(needed_load / tolerance);
+      std::uint8_t& level = level_needed_[root];
+      while (level < top_level && Real(base << level) < needed)
+        ++level;
+    }
+  }
+  // Up at once; down one level at a time, and only after kSubstepHold steps of needing less, so
+  // that a load near a boundary does not switch the spring's stiffness back and forth (each
+  // switch up pushes out the softer spring's sag, and that energy comes back as motion).
+  constexpr std::uint8_t kSubstepHold = 30;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (islands_.root(std::int32_t(i)) != std::int32_t(i))
+      continue;
+    std::uint8_t& level = level_needed_[i];
+    std::uint8_t& hold = hold_before_[i];
+    if (level >= level_before_[i]) {
+      hold = level > 0 ? kSubstepHold : 0;
+    } else if (hold > 0) {
+      level = level_before_[i];
+      --hold;
+    } else {
+      level = std::uint8_t(level_before_[i] - 1);
+      hold = level > 0 ? kSubstepHold : 0;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    state_.substep_level[i] = bodies[i].is_static ? 0 : level_needed_[root];
+    state_.substep_hold[i] = bodies[i].is_static ? 0 : hold_before_[root];
+  }
+  substeps_of_root_.assign(n, base);
+  for (std::size_t i = 0; i < n; ++i)
+    substeps_of_root_[i] = base << level_needed_[i];
+
+  // Groups: one per distinct count, ascending from the base (group 0, always there).
+  group_settings_.clear();
+  const auto group_of = [&](int substeps) {
+    for (std::size_t g = 0; g < group_settings_.size(); ++g)
+      if (group_settings_[g].substeps == substeps)
+        return static_cast<std::int32_t>(g);
+    ContactSolverSettings settings;
+    settings.substeps = substeps;
+    settings.substep = w.dt / substeps;
+    settings.penetration_slop = w.penetration_slop;
+    const Real rate = Real(1) / settings.substep;
+    if (w.contact_hertz) {
+      settings.contact_hertz = std::min(*w.contact_hertz, Real(0.25) * rate);
+      settings.static_contact_hertz = std::min(2 * *w.contact_hertz, Real(0.25) * rate);
+    } else {
+      settings.contact_hertz = Real(0.125) * rate;
+      settings.static_contact_hertz = Real(0.25) * rate;
+    }
+    settings.contact_damping_ratio = w.contact_damping_ratio;
+    settings.max_push_velocity = w.max_push_velocity;
+    settings.restitution_threshold = w.restitution_threshold;
+    group_settings_.push_back(settings);
+    return static_cast<std::int32_t>(group_settings_.size() - 1);
+  };
+  group_of(base);
+  int most = base;
+  // Visit the counts in ascending order so that group numbers do not depend on island order.
+  for (int substeps = 2 * base; substeps <= cap; substeps *= 2) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (substeps_of_root_[i] == substeps && islands_.root(std::int32_t(i)) == std::int32_t(i)) {
+        group_of(substeps);
+        most = substeps;
+        break;
+      }
+    }
+  }
+  const auto body_group = [&](std::int32_t body) {
+    return group_of(substeps_of_root_[std::size_t(islands_.root(body))]);
+  };
+  group_of_contact_.resize(contacts_.size());
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    const PairContact& pc = contacts_[c];
+    group_of_contact_[c] =
+        body_group(bodies[std::size_t(pc.body_a)].is_static ? pc.body_b : pc.body_a);
+  }
+  const std::size_t groups = group_settings_.size();
+  group_body_start_.assign(groups + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!bodies[i].is_static)
+      ++group_body_start_[std::size_t(body_group(std::int32_t(i))) + 1];
+  }
+  for (std::size_t g = 0; g < groups; ++g)
+    group_body_start_[g + 1] += group_body_start_[g];
+  group_bodies_.resize(std::size_t(group_body_start_[groups]));
+  std::vector<std::int32_t>& cursor = group_fill_;
+  cursor.assign(group_body_start_.begin(), group_body_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!bodies[i].is_static) {
+      const std::size_t g = std::size_t(body_group(std::int32_t(i)));
+      group_bodies_[std::size_t(cursor[g]++)] = std::int32_t(i);
+    }
+  }
+  current_.max_substeps = std::max(current_.max_substeps, most);
+}
+
+// The soft passes (use_bias) start with the warm start and the pairwise impacts; the relax
+// passes end with restitution.
+void World::solve_contacts(int group, bool use_bias, int passes) {
   StageTimer timer(current_, Stage::solve);
+  solver_.load_velocities(group, state_.bodies);
   if (use_bias) {
-    solver_.warm_start(state_.bodies);
-    solver_.resolve_impacts(state_.bodies);
+    solver_.warm_start(group);
+    solver_.resolve_impacts(group);
   }
   for (int it = 0; it < passes; ++it)
-    solver_.solve(state_.bodies, use_bias);
+    solver_.solve(group, use_bias);
+  if (!use_bias)
+    solver_.apply_restitution(group);
+  solver_.store_velocities(group, state_.bodies);
   current_.solver_iterations += passes;
 }
 
-void World::apply_restitution() {
+void World::update_separations(int group) {
   StageTimer timer(current_, Stage::solve);
-  solver_.apply_restitution(state_.bodies);
+  solver_.update_separations(group, state_.bodies);
 }
 
 void World::finish_contacts() {
@@ -411,10 +585,12 @@ void World::finish_contacts() {
   solver_.store(state_.contacts);
 }
 
-void World::integrate_positions(Real h) {
+void World::integrate_positions(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_positions);
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    if (scene_->bodies[i].is_static || state_.asleep[i] != 0)
+  for (std::int32_t k = group_body_start_[std::size_t(group)];
+       k < group_body_start_[std::size_t(group) + 1]; ++k) {
+    const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
+    if (state_.asleep[i] != 0)
       continue;
     integrate_position(state_.bodies[i], carries_[i], h);
   }

@@ -43,6 +43,8 @@ class World {
   void step();
 
   const StepStatistics& last_step_statistics() const { return last_step_; }
+  // state_hash() of the current state (computed on request, not by every step).
+  std::uint64_t state_hash() const { return tumble::state_hash(state_); }
 
   // What the last step's collision stages found, for debug views: the broad phase's candidate
   // pairs and the touching pairs with their manifolds (poses at the start of that step). Empty
@@ -67,11 +69,12 @@ class World {
   void update_bounds(Real dt);
   void find_candidate_pairs();
   void collide_candidate_pairs();
-  void prepare_contacts(Real h);
-  void integrate_velocities(Real h);
-  void solve_contacts(bool use_bias, int passes);
-  void integrate_positions(Real h);
-  void apply_restitution();
+  void prepare_contacts();
+  void choose_substeps();
+  void integrate_velocities(int group, Real h);
+  void solve_contacts(int group, bool use_bias, int passes);
+  void integrate_positions(int group, Real h);
+  void update_separations(int group);
   void finish_contacts();
   void rebuild_broad_phase();
   void step_penalty(Real dt);
@@ -97,6 +100,17 @@ class World {
   std::vector<Manifold> box_manifolds_;    // their manifolds
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
+  // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's
+  // settings, its moving awake bodies, and each contact's group. Group 0 runs the scene's
+  // `substeps` and holds the bodies that touch nothing.
+  std::vector<ContactSolverSettings> group_settings_;
+  std::vector<std::int32_t> group_body_start_;  // group g's bodies: [start[g], start[g + 1])
+  std::vector<std::int32_t> group_bodies_;
+  std::vector<std::int32_t> group_of_contact_;
+  std::vector<std::int32_t> substeps_of_root_;  // per island root: its substeps this step
+  std::vector<std::int32_t> group_fill_;        // scratch
+  std::vector<std::uint8_t> level_needed_, level_before_, hold_before_;  // per island root
+  std::vector<Real> island_mass_;
   PenaltySolver penalty_solver_;
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())

@@ -126,7 +126,10 @@ constexpr RealSpec kQuatComponent{"a finite number", "", -kInf, kInf};
 constexpr RealSpec kTimeStep{"a time step in seconds", "1e-9 to 1", kMinTimeStep, 1};
 constexpr RealSpec kDuration{"a duration in seconds", "greater than 0, at most 1e9", 0,
                              kMaxDuration, true};
-constexpr RealSpec kFrequency{"a frequency in Hz", "greater than 0, at most 1e6", 0, 1e6, true};
+constexpr RealSpec kFrequency{"a frequency in Hz or auto", "greater than 0, at most 1e6", 0, 1e6,
+                              true};
+constexpr RealSpec kSagTolerance{"a fraction of the body's bounding radius",
+                                 "greater than 0, at most 1", 0, 1, true};
 constexpr RealSpec kDampingRatio{"a damping ratio", "0 to 1e6", 0, 1e6};
 constexpr RealSpec kPushSpeed{"a speed in m/s", "greater than 0, at most 1e6", 0, kMaxSpeed, true};
 constexpr RealSpec kSpeedThreshold{"a speed in m/s", "0 to 1e6", 0, kMaxSpeed};
@@ -150,11 +153,11 @@ constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 1
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
 // clang-format off
-constexpr std::array<std::string_view, 19> kWorldKeys{
-    "gravity", "dt", "duration", "steps", "substeps", "solver", "iterations",
+constexpr std::array<std::string_view, 21> kWorldKeys{
+    "gravity", "dt", "duration", "steps", "substeps", "max_substeps", "solver", "iterations",
     "relax_iterations", "broadphase", "ccd", "contact_margin", "penetration_slop",
-    "contact_hertz", "contact_damping_ratio", "max_push_velocity", "restitution_threshold",
-    "sleeping", "sleep_speed", "sleep_time"};
+    "contact_hertz", "sag_tolerance", "contact_damping_ratio", "max_push_velocity",
+    "restitution_threshold", "sleeping", "sleep_speed", "sleep_time"};
 // clang-format on
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
@@ -772,6 +775,9 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
   if (const Entry* x = f.find("substeps")) {
     w.substeps = static_cast<int>(read_int(*x, path("substeps"), kSubsteps));
   }
+  if (const Entry* x = f.find("max_substeps")) {
+    w.max_substeps = static_cast<int>(read_int(*x, path("max_substeps"), kSubsteps));
+  }
   if (const Entry* x = f.find("solver")) {
     const std::string s = read_word(*x, path("solver"), "a solver name (impulse, penalty)");
     if (s == "impulse") {
@@ -821,7 +827,13 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
     w.penetration_slop = read_real(*x, path("penetration_slop"), kDistance);
   }
   if (const Entry* x = f.find("contact_hertz")) {
-    w.contact_hertz = read_real(*x, path("contact_hertz"), kFrequency);
+    if (x->value.kind == Node::Kind::scalar && x->value.scalar == "auto")
+      w.contact_hertz.reset();
+    else
+      w.contact_hertz = read_real(*x, path("contact_hertz"), kFrequency);
+  }
+  if (const Entry* x = f.find("sag_tolerance")) {
+    w.sag_tolerance = read_real(*x, path("sag_tolerance"), kSagTolerance);
   }
   if (const Entry* x = f.find("contact_damping_ratio")) {
     w.contact_damping_ratio = read_real(*x, path("contact_damping_ratio"), kDampingRatio);

@@ -125,23 +125,31 @@ TEST(ContactSolver, SoftPushOutAndRelax) {
   settings.substep = 1.0 / 240;
   settings.penetration_slop = 0;
   const Real h = settings.substep;
-  const Real omega = 2 * std::numbers::pi * settings.contact_hertz;
-  const Real zeta = settings.contact_damping_ratio;
-  // x'' = -omega^2 x - 2 zeta omega x', backward Euler over h, solved for the velocity.
-  const Real a1 = 2 * zeta + h * omega;
-  const Real mass_scale = h * omega * a1 / (1 + h * omega * a1);
-  for (Real depth : {0.001, 1.0}) {
-    TwoBodies w;
-    w.masses[0] = BodyMass::make(1.0, Mat3::Identity() * 1e12, false);
-    const PairContact c = point_contact(Vec3::Zero(), depth, 0.0, 0.0);
-    ContactSolver solver;
-    solver.prepare(std::span(&c, 1), {}, w.states, w.masses, settings);
-    solver.solve(w.states, true);
-    const Real push = std::min(omega / a1 * depth, settings.max_push_velocity);
-    EXPECT_NEAR(w.states[0].velocity.z(), mass_scale * push, 1e-12) << depth;
-    for (int i = 0; i < 50; ++i)
-      solver.solve(w.states, false);
-    EXPECT_NEAR(w.states[0].velocity.z(), 0.0, 1e-12);
+  // Against a static body the spring is static_contact_hertz; against a moving one (here one so
+  // heavy it does not move) contact_hertz.
+  for (bool against_static : {true, false}) {
+    const Real hertz = against_static ? settings.static_contact_hertz : settings.contact_hertz;
+    const Real omega = 2 * std::numbers::pi * hertz;
+    const Real zeta = settings.contact_damping_ratio;
+    // x'' = -omega^2 x - 2 zeta omega x', backward Euler over h, solved for the velocity.
+    const Real a1 = 2 * zeta + h * omega;
+    const Real mass_scale = h * omega * a1 / (1 + h * omega * a1);
+    for (Real depth : {0.001, 1.0}) {
+      TwoBodies w;
+      w.masses[0] = BodyMass::make(1.0, Mat3::Identity() * 1e12, false);
+      if (!against_static)
+        w.masses[1] = BodyMass::make(1e15, Mat3::Identity() * 1e15, false);
+      const PairContact c = point_contact(Vec3::Zero(), depth, 0.0, 0.0);
+      ContactSolver solver;
+      solver.prepare(std::span(&c, 1), {}, w.states, w.masses, settings);
+      solver.solve(w.states, true);
+      const Real push = std::min(omega / a1 * depth, settings.max_push_velocity);
+      EXPECT_NEAR(w.states[0].velocity.z(), mass_scale * push, 1e-12)
+          << depth << (against_static ? " static" : " moving");
+      for (int i = 0; i < 50; ++i)
+        solver.solve(w.states, false);
+      EXPECT_NEAR(w.states[0].velocity.z(), 0.0, 1e-12);
+    }
   }
 }
 
@@ -169,10 +177,11 @@ TEST(ContactSolver, RestingBoxAndWarmStart) {
   std::vector<CachedManifold> cache;
   solver.store(cache);
   ASSERT_EQ(cache.size(), 1u);
+  // The cache holds the impulse over the whole step: the substep's times the substeps.
   Real total = 0;
   for (int k = 0; k < 4; ++k)
     total += cache[0].points[k].normal_impulse;
-  EXPECT_NEAR(total, 9.81 * settings.substep, 1e-9);
+  EXPECT_NEAR(total, 9.81 * settings.substep * settings.substeps, 1e-9);
 
   w.states[0].velocity = Vec3(0, 0, -9.81 * settings.substep);
   solver.prepare(std::span(&c, 1), cache, w.states, w.masses, settings);
@@ -198,7 +207,9 @@ TEST(ContactSolver, WarmStartFallsBackToNearestPoint) {
   ContactSolver solver;
   solver.prepare(std::span(&c, 1), cache, w.states, w.masses, settings);
   solver.warm_start(w.states);
-  EXPECT_NEAR(w.states[0].velocity.z(), 2.0, 1e-12) << "exactly one point inherits the impulse";
+  // The cached impulse is the step's; a substep's warm start applies its share.
+  EXPECT_NEAR(w.states[0].velocity.z(), 2.0 / settings.substeps, 1e-12)
+      << "exactly one point inherits the impulse";
   c.match_distance = 0.0;
   TwoBodies fresh;
   solver.prepare(std::span(&c, 1), cache, fresh.states, fresh.masses, settings);

@@ -11,7 +11,7 @@ namespace {
 constexpr const char* kScene = R"(
 world: {dt: 0.01}
 bodies:
-  - {name: floor, shape: {type: plane}, static: true}
+  - {name: floor, shape: {type: plane}, static: true, orientation: [0.9987502603949663, 0.04997916927067833, 0, 0]}
   - {name: box, shape: {type: box, half_extents: [0.5, 0.4, 0.3]}, position: [0, 0, 0.3], mass: 2}
   - {name: ball, shape: {type: sphere, radius: 0.3}, position: [3, 0, 0.3], mass: 1}
 )";
@@ -29,9 +29,11 @@ TEST(Teleport, DropsTheMovedBodysCacheAndStepsLikeAFreshWorld) {
   };
   ASSERT_GT(pairs_with(1), 0);  // the box rests on the floor: warm-start entries exist
   ASSERT_GT(pairs_with(2), 0);
-  // Teleport the box to a tilted pose far away, just touching the floor with one edge.
-  const Quat tilt(Eigen::AngleAxis<Real>(0.3, Vec3::UnitX()));
-  const Vec3 target(-5, 4, 0.3 * std::cos(0.3) + 0.4 * std::sin(0.3) - 1e-3);
+  // Teleport the box to a tilted pose far away, just touching the floor with one edge. The
+  // floor is an incline of 0.1 rad, so that the resting box's cache carries friction as well.
+  const Quat floor_tilt = scene->bodies[0].orientation;
+  const Quat tilt = floor_tilt * Quat(Eigen::AngleAxis<Real>(0.3, Vec3::UnitX()));
+  const Vec3 target = floor_tilt * Vec3(-5, 4, 0.3 * std::cos(0.3) + 0.4 * std::sin(0.3) - 1e-3);
   // The same move without dropping the cache (what a bare set_state of edited poses does).
   State stale_state = world.state();
   stale_state.bodies[1].position = target;

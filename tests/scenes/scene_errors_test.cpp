@@ -86,7 +86,7 @@ constexpr Malformed kCases[] = {
     {"substeps_absurd.yaml", 3, "world.substeps", "(1 to 1000), got 100000"},
     {"zero_iterations.yaml", 3, "world.iterations", "(1 to 10000), got 0"},
     {"zero_contact_hertz.yaml", 3, "world.contact_hertz",
-     "expected a frequency in Hz (greater than 0, at most 1e6), got 0"},
+     "expected a frequency in Hz or auto (greater than 0, at most 1e6), got 0"},
     {"duration_and_steps.yaml", 4, "world.steps", "either duration or steps, not both"},
     {"too_many_implied_steps.yaml", 4, "world.duration", "at most 1e9 are allowed"},
     {"dt_too_large.yaml", 3, "world.dt", "(1e-9 to 1), got 2"},

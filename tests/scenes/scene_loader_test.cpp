@@ -72,7 +72,10 @@ TEST(SceneLoader, EveryFieldArrives) {
   EXPECT_EQ(w.ccd, CcdMode::on);
   EXPECT_DOUBLE_EQ(w.contact_margin, 0.01);
   EXPECT_DOUBLE_EQ(w.penetration_slop, 0.001);
-  EXPECT_DOUBLE_EQ(w.contact_hertz, 60);
+  ASSERT_TRUE(w.contact_hertz.has_value());
+  EXPECT_DOUBLE_EQ(*w.contact_hertz, 60);
+  EXPECT_EQ(w.max_substeps, 16);
+  EXPECT_DOUBLE_EQ(w.sag_tolerance, 0.01);
   EXPECT_DOUBLE_EQ(w.contact_damping_ratio, 2);
   EXPECT_DOUBLE_EQ(w.max_push_velocity, 1.5);
   EXPECT_DOUBLE_EQ(w.restitution_threshold, 0.75);
@@ -179,8 +182,10 @@ TEST(SceneLoader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_EQ(w.broadphase, BroadPhaseType::automatic);
   EXPECT_EQ(w.ccd, CcdMode::automatic);
   EXPECT_DOUBLE_EQ(w.contact_margin, 0.005);
-  EXPECT_DOUBLE_EQ(w.penetration_slop, 0.0005);
-  EXPECT_DOUBLE_EQ(w.contact_hertz, 30);
+  EXPECT_DOUBLE_EQ(w.penetration_slop, 0.0001);
+  EXPECT_FALSE(w.contact_hertz.has_value()) << "auto: set from the substep rate";
+  EXPECT_EQ(w.max_substeps, 64);
+  EXPECT_DOUBLE_EQ(w.sag_tolerance, 0.002);
   EXPECT_DOUBLE_EQ(w.contact_damping_ratio, 10);
   EXPECT_DOUBLE_EQ(w.max_push_velocity, 3);
   EXPECT_DOUBLE_EQ(w.restitution_threshold, 0.2);
@@ -461,6 +466,7 @@ TEST(SceneFormatDoc, DocumentsEveryField) {
                           "duration",
                           "steps",
                           "substeps",
+                          "max_substeps",
                           "solver",
                           "iterations",
                           "relax_iterations",
@@ -469,6 +475,7 @@ TEST(SceneFormatDoc, DocumentsEveryField) {
                           "contact_margin",
                           "penetration_slop",
                           "contact_hertz",
+                          "sag_tolerance",
                           "contact_damping_ratio",
                           "max_push_velocity",
                           "restitution_threshold",

@@ -1,0 +1,74 @@
+// The contact solver's lanes (contact_solver_lanes.inc), compiled once per instruction set:
+// GCC vector extensions as wide as the target's registers, 8 doubles for AVX-512, 4 for AVX2, 2
+// (SSE2) for the baseline. The target pragma makes every function of the file, the helpers
+// included, code for that instruction set.
+#include "dynamics/contact_solver_wide.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+// A vector's ABI depends on the instruction set, and GCC warns about it (-Wpsabi) even for
+// functions of internal linkage; every function here that takes or returns one is inlined.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+#define TUMBLE_LANES_INLINE [[gnu::always_inline]] inline
+#define TUMBLE_LAMBDA_INLINE __attribute__((always_inline))
+
+namespace tumble {
+
+namespace {
+namespace lanes8 {
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+constexpr int kLanes = 8;
+#include "dynamics/contact_solver_lanes.inc"
+#pragma GCC pop_options
+}  // namespace lanes8
+}  // namespace
+
+namespace {
+namespace lanes4 {
+#pragma GCC push_options
+#pragma GCC target("avx2")
+constexpr int kLanes = 4;
+#include "dynamics/contact_solver_lanes.inc"
+#pragma GCC pop_options
+}  // namespace lanes4
+}  // namespace
+
+namespace {
+namespace lanes2 {
+constexpr int kLanes = 2;
+#include "dynamics/contact_solver_lanes.inc"
+}  // namespace lanes2
+}  // namespace
+
+namespace detail {
+
+int available_wide_kernels(const WideKernels** out, int capacity) {
+  __builtin_cpu_init();
+  int n = 0;
+  if (n < capacity && __builtin_cpu_supports("avx512f"))
+    out[n++] = &lanes8::kKernels;
+  if (n < capacity && __builtin_cpu_supports("avx2"))
+    out[n++] = &lanes4::kKernels;
+  if (n < capacity)
+    out[n++] = &lanes2::kKernels;
+  return n;
+}
+
+const WideKernels& wide_kernels() {
+  static const WideKernels* chosen = [] {
+    const WideKernels* best[3];
+    available_wide_kernels(best, 3);
+    return best[0];
+  }();
+  return *chosen;
+}
+
+}  // namespace detail
+}  // namespace tumble
