@@ -48,7 +48,9 @@ void ContactSolver::AlignedFree::operator()(std::byte* p) const {
   ::operator delete[](p, std::align_val_t(64));
 }
 
-ContactSolver::ContactSolver() : kernels_(&detail::wide_kernels()) {
+ContactSolver::ContactSolver() : ContactSolver(detail::wide_kernels()) {}
+
+ContactSolver::ContactSolver(const detail::WideKernels& kernels) : kernels_(&kernels) {
   velocities_.resize(1);
   motions_.resize(1);
   groups_.reserve(16);  // a world has at most 11 (one per doubling of the substeps)

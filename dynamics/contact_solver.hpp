@@ -76,6 +76,8 @@ struct WideKernels;
 class ContactSolver {
  public:
   ContactSolver();
+  // With the given vector kernels (detail::available_wide_kernels), for tests that compare them.
+  explicit ContactSolver(const detail::WideKernels& kernels);
   ~ContactSolver();
   ContactSolver(ContactSolver&&) noexcept;
   ContactSolver& operator=(ContactSolver&&) noexcept;
