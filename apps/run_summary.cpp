@@ -97,6 +97,12 @@ std::string RunSummary::to_json() const {
                                                               {"seconds", totals_.seconds[i]}};
     stage_total += totals_.seconds[i];
   }
+  // The solve stage split into its phases (they add up to its seconds).
+  json phases = json::object();
+  for (int i = 0; i < kSolvePhaseCount; ++i)
+    phases[std::string(solve_phase_name(static_cast<SolvePhase>(i)))] =
+        totals_.solve_phase_seconds[std::size_t(i)];
+  stages[std::string(stage_name(Stage::solve))]["phases"] = phases;
   const double per_step = steps_ > 0 ? wall_seconds_ / static_cast<double>(steps_) : 0.0;
   json summary = {{"tumble_version", "0.1.0"},
                   {"scene", scene_path_.string()},

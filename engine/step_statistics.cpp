@@ -24,11 +24,33 @@ std::string_view stage_name(Stage stage) {
   return "unknown";
 }
 
+std::string_view solve_phase_name(SolvePhase phase) {
+  switch (phase) {
+    case SolvePhase::prepare:
+      return "prepare";
+    case SolvePhase::warm_start:
+      return "warm_start";
+    case SolvePhase::soft_passes:
+      return "soft_passes";
+    case SolvePhase::relax_passes:
+      return "relax_passes";
+    case SolvePhase::restitution:
+      return "restitution";
+    case SolvePhase::store_impulses:
+      return "store_impulses";
+    case SolvePhase::islands_and_sleep:
+      return "islands_and_sleep";
+  }
+  return "unknown";
+}
+
 void StepStatistics::accumulate(const StepStatistics& o) {
   for (int i = 0; i < kStageCount; ++i) {
     seconds[i] += o.seconds[i];
     ran[i] = ran[i] || o.ran[i];
   }
+  for (int i = 0; i < kSolvePhaseCount; ++i)
+    solve_phase_seconds[i] += o.solve_phase_seconds[i];
   candidate_pairs += o.candidate_pairs;
   touching_pairs += o.touching_pairs;
   contact_points += o.contact_points;

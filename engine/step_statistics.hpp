@@ -19,13 +19,28 @@ enum class Stage : std::uint8_t {
 };
 inline constexpr int kStageCount = 7;
 
+// The phases of the solve stage (Box2D's b2Profile splits its solver the same way), whose times
+// add up to the stage's.
+enum class SolvePhase : std::uint8_t {
+  prepare,            // constraints built, coloured, packed (penalty: springs set up)
+  warm_start,         // last step's impulses applied, and the pairwise impacts
+  soft_passes,        // the passes with the push-out spring (penalty: to convergence)
+  relax_passes,       // separations updated, rigid passes
+  restitution,        // bounces applied
+  store_impulses,     // impulses written to the cache
+  islands_and_sleep,  // islands, substeps per island, waking, falling asleep
+};
+inline constexpr int kSolvePhaseCount = 7;
+
 std::string_view stage_name(Stage stage);
+std::string_view solve_phase_name(SolvePhase phase);
 
 struct StepStatistics {
-  std::array<double, kStageCount> seconds{};  // wall time per stage [s]
-  std::array<bool, kStageCount> ran{};        // whether the stage ran at all
-  std::int64_t candidate_pairs = 0;           // broad-phase output
-  std::int64_t touching_pairs = 0;            // pairs with a manifold
+  std::array<double, kStageCount> seconds{};                   // wall time per stage [s]
+  std::array<bool, kStageCount> ran{};                         // whether the stage ran at all
+  std::array<double, kSolvePhaseCount> solve_phase_seconds{};  // the solve stage, split [s]
+  std::int64_t candidate_pairs = 0;                            // broad-phase output
+  std::int64_t touching_pairs = 0;                             // pairs with a manifold
   std::int64_t contact_points = 0;
   std::int64_t solver_iterations = 0;
   std::int64_t swept_bodies = 0;         // bodies swept by continuous collision detection

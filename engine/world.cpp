@@ -13,22 +13,34 @@
 namespace tumble {
 namespace {
 
+// Times one stage of the step, or one phase of the solve stage (which counts toward the stage
+// too). A stage is reported as run once a timer has been made for it, unless the timer is told
+// that the stage had nothing to do.
 class StageTimer {
  public:
   StageTimer(StepStatistics& stats, Stage stage)
       : stats_(stats), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {
-    stats_.ran[stage_] = true;
+    stats_.ran[std::size_t(stage_)] = true;
+  }
+  StageTimer(StepStatistics& stats, SolvePhase phase) : StageTimer(stats, Stage::solve) {
+    phase_ = static_cast<int>(phase);
   }
   ~StageTimer() {
-    const auto end = std::chrono::steady_clock::now();
-    stats_.seconds[stage_] += std::chrono::duration<double>(end - start_).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    stats_.seconds[std::size_t(stage_)] += seconds;
+    if (phase_ >= 0)
+      stats_.solve_phase_seconds[std::size_t(phase_)] += seconds;
   }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
+  // The stage's time still counts, but it is not reported as run (for this step).
+  void had_nothing_to_do(bool ran_before) { stats_.ran[std::size_t(stage_)] = ran_before; }
 
  private:
   StepStatistics& stats_;
   int stage_;
+  int phase_ = -1;
   std::chrono::steady_clock::time_point start_;
 };
 
@@ -103,18 +115,15 @@ void World::rebuild_broad_phase() {
   }
 }
 
-// One step, as design.md outlines it. Collision runs once; the solver then runs substeps of
-// velocity integration, warm start, soft solve, position integration, relax and restitution
-// (the soft step of docs/architecture.md); continuous collision then stops fast bodies at their
-// first time of impact (engine/continuous_collision.hpp), and the impulses are kept for the next
-// step.
+// One step, as docs/architecture.md tells it, for both solvers. Collision runs once; the solver
+// then runs, group of islands by group, substeps of velocity integration, warm start and soft
+// passes, position integration, relax passes and restitution (the soft step; the penalty solver
+// iterates its springs instead and has no relax); continuous collision then stops fast bodies at
+// their first time of impact (engine/continuous_collision.hpp), and the impulses are kept for
+// the next step.
 void World::step() {
   current_ = StepStatistics{};
   const WorldSettings& w = scene_->world;
-  if (w.solver == SolverType::penalty) {
-    step_penalty(w.dt);
-    return;
-  }
   update_bounds(w.dt);
   find_candidate_pairs();
   collide_candidate_pairs();
@@ -124,10 +133,9 @@ void World::step() {
     const ContactSolverSettings& group = group_settings_[std::size_t(g)];
     for (int s = 0; s < group.substeps; ++s) {
       integrate_velocities(g, group.substep);
-      solve_contacts(g, /*use_bias=*/true, w.iterations);
+      solve_contacts(g);
       integrate_positions(g, group.substep);
-      update_separations(g);
-      solve_contacts(g, /*use_bias=*/false, w.relax_iterations);
+      relax_contacts(g);
     }
   }
   sweep_fast_bodies();
@@ -140,60 +148,6 @@ void World::step() {
   last_step_ = current_;
 }
 
-// The penalty solver runs through the same stages: collision once, then substeps of gravity,
-// warm start, implicit spring-damper passes and positions. There is no relax pass (the spring
-// is the physics, not a correction to remove) and no restitution step (the damper sets it).
-void World::step_penalty(Real dt) {
-  const WorldSettings& w = scene_->world;
-  const int substeps = penalty_substeps_;
-  const Real h = dt / substeps;
-  update_bounds(dt);
-  find_candidate_pairs();
-  collide_candidate_pairs();
-  wake_touched_islands();
-  {
-    StageTimer timer(current_, Stage::solve);
-    PenaltySolverSettings settings;
-    settings.substep = h;
-    settings.min_iterations = w.iterations;
-    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
-    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
-                            settings);
-    current_.contact_points += penalty_solver_.point_count();
-  }
-  // The penalty solver integrates every moving body in one group.
-  group_bodies_.clear();
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    if (!scene_->bodies[i].is_static)
-      group_bodies_.push_back(static_cast<std::int32_t>(i));
-  }
-  group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
-  for (int s = 0; s < substeps; ++s) {
-    integrate_velocities(0, h);
-    {
-      StageTimer timer(current_, Stage::solve);
-      penalty_solver_.begin_substep(state_.bodies);
-      const PenaltySolverSettings& settings = penalty_solver_.settings();
-      for (int it = 0; it < settings.max_iterations; ++it) {
-        const Real change = penalty_solver_.solve(state_.bodies);
-        current_.solver_iterations += 1;
-        if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
-          break;
-      }
-    }
-    integrate_positions(0, h);
-  }
-  {
-    StageTimer timer(current_, Stage::solve);
-    penalty_solver_.store(state_.contacts);
-  }
-  sweep_fast_bodies();
-  update_sleep(dt);
-  state_.step += 1;
-  state_.time = static_cast<Real>(state_.step) * w.dt;
-  last_step_ = current_;
-}
-
 // Islands of this step's contact graph (static bodies excluded). An island with one awake body
 // wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, so a
 // sleeping island costs collision only. Their warm-start impulses are dropped: a woken island
@@ -201,7 +155,7 @@ void World::step_penalty(Real dt) {
 void World::wake_touched_islands() {
   if (!scene_->world.sleeping)
     return;
-  StageTimer timer(current_, Stage::solve);
+  StageTimer timer(current_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
   const auto& bodies = scene_->bodies;
   islands_.reset(n);
@@ -241,7 +195,7 @@ void World::update_sleep(Real dt) {
   const WorldSettings& w = scene_->world;
   if (!w.sleeping)
     return;
-  StageTimer timer(current_, Stage::solve);
+  StageTimer timer(current_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
   const auto& bodies = scene_->bodies;
   island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
@@ -271,18 +225,15 @@ void World::update_sleep(Real dt) {
 void World::sweep_fast_bodies() {
   if (!continuous_)
     return;
-  const auto begin = std::chrono::steady_clock::now();
+  const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
+  StageTimer timer(current_, Stage::continuous);
   const ContinuousCollisionCounts counts =
       continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies);
   current_.swept_bodies += counts.swept_bodies;
   current_.ccd_candidate_pairs += counts.candidate_pairs;
-  if (counts.toi_queries == 0)
-    return;  // nothing near a swept body: no sweep was needed
-  const int stage = static_cast<int>(Stage::continuous);
-  current_.ran[stage] = true;
-  current_.seconds[stage] +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   current_.stopped_bodies += counts.stopped_bodies;
+  if (counts.toi_queries == 0)
+    timer.had_nothing_to_do(ran_before);  // nothing near a swept body: no sweep was needed
 }
 
 void World::integrate_velocities(int group, Real h) {
@@ -393,10 +344,41 @@ void World::collide_candidate_pairs() {
 }
 
 void World::prepare_contacts() {
-  StageTimer timer(current_, Stage::solve);
-  solver_.build(contacts_, state_.contacts, state_.bodies, masses_, scene_->world.dt,
-                scene_->world.gravity.norm());
-  choose_substeps();
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    // The penalty solver runs every moving body in one group, at penalty_substeps().
+    {
+      StageTimer timer(current_, SolvePhase::islands_and_sleep);
+      group_settings_.resize(1);
+      group_settings_[0].substeps = penalty_substeps_;
+      group_settings_[0].substep = w.dt / penalty_substeps_;
+      group_bodies_.clear();
+      for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+        if (!scene_->bodies[i].is_static)
+          group_bodies_.push_back(static_cast<std::int32_t>(i));
+      }
+      group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
+      current_.max_substeps = penalty_substeps_;
+    }
+    StageTimer timer(current_, SolvePhase::prepare);
+    PenaltySolverSettings settings;
+    settings.substep = group_settings_[0].substep;
+    settings.min_iterations = w.iterations;
+    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
+    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
+                            settings);
+    current_.contact_points += penalty_solver_.point_count();
+    return;
+  }
+  {
+    StageTimer timer(current_, SolvePhase::prepare);
+    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity.norm());
+  }
+  {
+    StageTimer timer(current_, SolvePhase::islands_and_sleep);
+    choose_substeps();
+  }
+  StageTimer timer(current_, SolvePhase::prepare);
   solver_.pack(group_of_contact_, group_settings_);
   current_.contact_points += solver_.point_count();
 }
@@ -558,31 +540,61 @@ void World::choose_substeps() {
   current_.max_substeps = std::max(current_.max_substeps, most);
 }
 
-// The soft passes (use_bias) start with the warm start and the pairwise impacts; the relax
-// passes end with restitution.
-void World::solve_contacts(int group, bool use_bias, int passes) {
-  StageTimer timer(current_, Stage::solve);
-  solver_.load_velocities(group, state_.bodies);
-  if (use_bias) {
+// Before the bodies move: the warm start and the pairwise impacts, then the soft passes (the
+// penalty solver: its passes until the springs converge).
+void World::solve_contacts(int group) {
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    StageTimer timer(current_, SolvePhase::soft_passes);
+    penalty_solver_.begin_substep(state_.bodies);
+    const PenaltySolverSettings& settings = penalty_solver_.settings();
+    for (int it = 0; it < settings.max_iterations; ++it) {
+      const Real change = penalty_solver_.solve(state_.bodies);
+      current_.solver_iterations += 1;
+      if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
+        break;
+    }
+    return;
+  }
+  {
+    StageTimer timer(current_, SolvePhase::warm_start);
+    solver_.load_velocities(group, state_.bodies);
     solver_.warm_start(group);
     solver_.resolve_impacts(group);
   }
-  for (int it = 0; it < passes; ++it)
-    solver_.solve(group, use_bias);
-  if (!use_bias)
-    solver_.apply_restitution(group);
+  StageTimer timer(current_, SolvePhase::soft_passes);
+  for (int it = 0; it < w.iterations; ++it)
+    solver_.solve(group, /*use_bias=*/true);
   solver_.store_velocities(group, state_.bodies);
-  current_.solver_iterations += passes;
+  current_.solver_iterations += w.iterations;
 }
 
-void World::update_separations(int group) {
-  StageTimer timer(current_, Stage::solve);
-  solver_.update_separations(group, state_.bodies);
+// After the bodies moved: the separations, the relax passes that take out the push-out speed,
+// and restitution. The penalty solver has none of these (the spring is the physics, not a
+// correction to remove, and the damper sets the bounce).
+void World::relax_contacts(int group) {
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty)
+    return;
+  {
+    StageTimer timer(current_, SolvePhase::relax_passes);
+    solver_.update_separations(group, state_.bodies);
+    solver_.load_velocities(group, state_.bodies);
+    for (int it = 0; it < w.relax_iterations; ++it)
+      solver_.solve(group, /*use_bias=*/false);
+    current_.solver_iterations += w.relax_iterations;
+  }
+  StageTimer timer(current_, SolvePhase::restitution);
+  solver_.apply_restitution(group);
+  solver_.store_velocities(group, state_.bodies);
 }
 
 void World::finish_contacts() {
-  StageTimer timer(current_, Stage::solve);
-  solver_.store(state_.contacts);
+  StageTimer timer(current_, SolvePhase::store_impulses);
+  if (scene_->world.solver == SolverType::penalty)
+    penalty_solver_.store(state_.contacts);
+  else
+    solver_.store(state_.contacts);
 }
 
 void World::integrate_positions(int group, Real h) {

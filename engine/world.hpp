@@ -72,12 +72,11 @@ class World {
   void prepare_contacts();
   void choose_substeps();
   void integrate_velocities(int group, Real h);
-  void solve_contacts(int group, bool use_bias, int passes);
+  void solve_contacts(int group);
   void integrate_positions(int group, Real h);
-  void update_separations(int group);
+  void relax_contacts(int group);
   void finish_contacts();
   void rebuild_broad_phase();
-  void step_penalty(Real dt);
   void wake_touched_islands();
   void update_sleep(Real dt);
   void sweep_fast_bodies();
