@@ -89,81 +89,130 @@ int bench_command(const BenchOptions& options) {
   }
 
   std::ostringstream summary;
-  summary << "scene,bodies,steps,repetitions,engine,min_ms,median_ms,max_ms,mean_ms,"
+  summary << "scene,sleeping,bodies,steps,repetitions,engine,min_ms,median_ms,max_ms,mean_ms,"
              "ratio_median_tumble_over_bullet";
   for (int k = 0; k < kStageCount; ++k)
     summary << ",tumble_" << stage_name(static_cast<Stage>(k)) << "_ms";
-  summary << "\n";
+  for (int k = 0; k < kSolvePhaseCount; ++k)
+    summary << ",tumble_solve_" << solve_phase_name(static_cast<SolvePhase>(k)) << "_ms";
+  summary << ",tumble_ns_per_point_pass,tumble_ns_per_narrow_phase_pair,"
+             "tumble_contact_points_per_step,tumble_max_substeps,tumble_bytes_per_body,"
+             "tumble_bytes_per_contact_point\n";
 
   for (const auto& path : scenes) {
-    auto scene = std::make_shared<Scene>(load_scene_file(path));
-    const std::int64_t steps = options.steps ? *options.steps : scene_steps(*scene);
-    std::vector<double> tumble_steps, bullet_steps;
-    std::array<double, kStageCount> stage_seconds{};
-    std::ostringstream per_step;
-    per_step << "engine,repetition,step,seconds\n";
-    for (int rep = 0; rep < options.repetitions; ++rep) {
-      // Alternate which engine runs first, so neither always gets the warm cache.
-      for (int turn = 0; turn < 2; ++turn) {
-        const bool tumble_turn = (turn == 0) == (rep % 2 == 0);
-        if (tumble_turn) {
-          World world(scene);
-          for (std::int64_t k = 1; k <= steps; ++k) {
-            const auto t0 = Clock::now();
-            world.step();
-            const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-            tumble_steps.push_back(s);
-            per_step << "tumble," << rep << ',' << k << ',';
-            write_number(per_step, s);
-            per_step << '\n';
-            const StepStatistics& st = world.last_step_statistics();
-            for (int j = 0; j < kStageCount; ++j)
-              stage_seconds[j] += st.seconds[j];
-          }
-        } else if (with_bullet) {
-          BulletWorld bullet(*scene, bench_bullet_settings(*scene));
-          for (std::int64_t k = 1; k <= steps; ++k) {
-            const auto t0 = Clock::now();
-            bullet.step();
-            const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-            bullet_steps.push_back(s);
-            per_step << "bullet," << rep << ',' << k << ',';
-            write_number(per_step, s);
-            per_step << '\n';
+    // Each scene twice: sleeping off in both engines, then on in both (tumble's
+    // world.sleeping, Bullet's default deactivation).
+    for (const bool sleeping : {false, true}) {
+      auto scene = std::make_shared<Scene>(load_scene_file(path));
+      scene->world.sleeping = sleeping;
+      const std::int64_t steps = options.steps ? *options.steps : scene_steps(*scene);
+      std::vector<double> tumble_steps, bullet_steps;
+      StepStatistics totals;
+      WorldMemory memory;
+      std::ostringstream per_step;
+      per_step << "engine,repetition,step,seconds\n";
+      for (int rep = 0; rep < options.repetitions; ++rep) {
+        // Alternate which engine runs first, so neither always gets the warm cache.
+        for (int turn = 0; turn < 2; ++turn) {
+          const bool tumble_turn = (turn == 0) == (rep % 2 == 0);
+          if (tumble_turn) {
+            World world(scene);
+            for (std::int64_t k = 1; k <= steps; ++k) {
+              const auto t0 = Clock::now();
+              world.step();
+              const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+              tumble_steps.push_back(s);
+              per_step << "tumble," << rep << ',' << k << ',';
+              write_number(per_step, s);
+              per_step << '\n';
+              totals.accumulate(world.last_step_statistics());
+            }
+            memory = world.memory();
+          } else if (with_bullet) {
+            BulletSettings settings = bench_bullet_settings(*scene);
+            settings.sleeping = sleeping;
+            BulletWorld bullet(*scene, settings);
+            for (std::int64_t k = 1; k <= steps; ++k) {
+              const auto t0 = Clock::now();
+              bullet.step();
+              const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+              bullet_steps.push_back(s);
+              per_step << "bullet," << rep << ',' << k << ',';
+              write_number(per_step, s);
+              per_step << '\n';
+            }
           }
         }
       }
+      const Spread t = spread_of(tumble_steps);
+      const Spread b = spread_of(bullet_steps);
+      const double ratio = with_bullet && b.median > 0 ? t.median / b.median : 0;
+      const std::string name = path.stem().string();
+      const std::string label = name + (sleeping ? " (sleeping on)" : " (sleeping off)");
+      const double total_steps = static_cast<double>(tumble_steps.size());
+      const auto per = [](double seconds, double count) {
+        return count > 0 ? seconds / count : 0.0;
+      };
+      const double pass_seconds =
+          totals.solve_phase_seconds[static_cast<int>(SolvePhase::soft_passes)] +
+          totals.solve_phase_seconds[static_cast<int>(SolvePhase::relax_passes)];
+      const double ns_per_point_pass =
+          1e9 * per(pass_seconds, static_cast<double>(totals.point_passes));
+      const double ns_per_pair = 1e9 * per(totals.seconds[static_cast<int>(Stage::narrow_phase)],
+                                           static_cast<double>(totals.candidate_pairs));
+      const double points_per_step = per(static_cast<double>(totals.contact_points), total_steps);
+      const double bytes_per_body =
+          per(static_cast<double>(memory.body_bytes), static_cast<double>(scene->bodies.size()));
+      const double bytes_per_point =
+          per(static_cast<double>(memory.contact_bytes), points_per_step);
+      std::cout << label << ": " << scene->bodies.size() << " bodies, " << steps << " steps x "
+                << options.repetitions << " repetitions\n"
+                << "  tumble step time  min " << ms(t.min) << "  median " << ms(t.median)
+                << "  max " << ms(t.max) << " ms\n";
+      if (with_bullet) {
+        std::cout << "  Bullet step time  min " << ms(b.min) << "  median " << ms(b.median)
+                  << "  max " << ms(b.max) << " ms\n"
+                  << "  ratio tumble / Bullet (median): " << ratio << " (aim: <= 0.2)\n";
+      }
+      std::cout << "  tumble stages (mean ms per step):";
+      for (int j = 0; j < kStageCount; ++j) {
+        std::cout << ' ' << stage_name(static_cast<Stage>(j)) << ' '
+                  << ms(totals.seconds[std::size_t(j)] / total_steps);
+      }
+      std::cout << "\n  tumble solve phases (mean ms per step):";
+      for (int j = 0; j < kSolvePhaseCount; ++j) {
+        std::cout << ' ' << solve_phase_name(static_cast<SolvePhase>(j)) << ' '
+                  << ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps);
+      }
+      std::cout << "\n  tumble: " << points_per_step << " contact points per step, "
+                << ns_per_point_pass << " ns per point per pass, " << ns_per_pair
+                << " ns per narrow-phase pair, substeps up to " << totals.max_substeps << ", "
+                << bytes_per_body << " bytes per body, " << bytes_per_point
+                << " bytes per contact point\n";
+      for (int e = 0; e < (with_bullet ? 2 : 1); ++e) {
+        const Spread& sp = e == 0 ? t : b;
+        summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
+                << steps << ',' << options.repetitions << ',' << (e == 0 ? "tumble" : "bullet")
+                << ',' << ms(sp.min) << ',' << ms(sp.median) << ',' << ms(sp.max) << ','
+                << ms(sp.mean) << ',' << ratio;
+        for (int j = 0; j < kStageCount; ++j)
+          summary << ',' << (e == 0 ? ms(totals.seconds[std::size_t(j)] / total_steps) : "");
+        for (int j = 0; j < kSolvePhaseCount; ++j) {
+          summary << ','
+                  << (e == 0 ? ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps) : "");
+        }
+        if (e == 0) {
+          summary << ',' << ns_per_point_pass << ',' << ns_per_pair << ',' << points_per_step << ','
+                  << totals.max_substeps << ',' << bytes_per_body << ',' << bytes_per_point;
+        } else {
+          summary << ",,,,,,";
+        }
+        summary << "\n";
+      }
+      write_file_atomically(
+          options.output_dir / (name + (sleeping ? "_sleeping" : "") + "_steps.csv"),
+          per_step.str());
     }
-    const Spread t = spread_of(tumble_steps);
-    const Spread b = spread_of(bullet_steps);
-    const double ratio = with_bullet && b.median > 0 ? t.median / b.median : 0;
-    const std::string name = path.stem().string();
-    const double total_steps = static_cast<double>(tumble_steps.size());
-    std::cout << name << ": " << scene->bodies.size() << " bodies, " << steps << " steps x "
-              << options.repetitions << " repetitions\n"
-              << "  tumble step time  min " << ms(t.min) << "  median " << ms(t.median) << "  max "
-              << ms(t.max) << " ms\n";
-    if (with_bullet) {
-      std::cout << "  Bullet step time  min " << ms(b.min) << "  median " << ms(b.median)
-                << "  max " << ms(b.max) << " ms\n"
-                << "  ratio tumble / Bullet (median): " << ratio << " (aim: <= 0.333)\n";
-    }
-    std::cout << "  tumble stages (mean ms per step):";
-    for (int j = 0; j < kStageCount; ++j) {
-      std::cout << ' ' << stage_name(static_cast<Stage>(j)) << ' '
-                << ms(stage_seconds[j] / total_steps);
-    }
-    std::cout << "\n";
-    for (int e = 0; e < (with_bullet ? 2 : 1); ++e) {
-      const Spread& s = e == 0 ? t : b;
-      summary << name << ',' << scene->bodies.size() << ',' << steps << ',' << options.repetitions
-              << ',' << (e == 0 ? "tumble" : "bullet") << ',' << ms(s.min) << ',' << ms(s.median)
-              << ',' << ms(s.max) << ',' << ms(s.mean) << ',' << ratio;
-      for (int j = 0; j < kStageCount; ++j)
-        summary << ',' << (e == 0 ? ms(stage_seconds[j] / total_steps) : std::string());
-      summary << "\n";
-    }
-    write_file_atomically(options.output_dir / (name + "_steps.csv"), per_step.str());
   }
   write_file_atomically(options.output_dir / "oracle_bench.csv", summary.str());
   std::cout << "CSV: " << (options.output_dir / "oracle_bench.csv").string() << "\n";

@@ -287,7 +287,8 @@ BulletWorld::BulletWorld(const Scene& scene, const BulletSettings& settings)
       body->setAngularVelocity(bt(d.angular_velocity));
       body->setFlags(BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
     }
-    body->setActivationState(DISABLE_DEACTIVATION);
+    if (!settings.sleeping)
+      body->setActivationState(DISABLE_DEACTIVATION);
     m.world.addRigidBody(body.get());
     m.bodies.push_back(std::move(body));
   }

@@ -25,7 +25,8 @@
 //              m_restitutionVelocityThreshold = restitution_threshold, split impulse on.
 //   rotation   BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY (one Newton step of implicit Euler on
 //              Euler's equations) against tumble's implicit midpoint rule.
-//   sleeping   off in both: every Bullet body has DISABLE_DEACTIVATION.
+//   sleeping   off in both unless BulletSettings::sleeping: every Bullet body then has
+//              DISABLE_DEACTIVATION; with it, Bullet's default deactivation.
 #pragma once
 
 #include <memory>
@@ -60,6 +61,9 @@ struct BulletSettings {
   // splits every penetration, so position correction never adds kinetic energy (tumble's relax
   // pass does the same). [m]
   Real split_impulse_penetration_threshold = Real(-0.04);
+  // Bullet's default deactivation (bodies below 0.8 m/s and 1 rad/s for 2 s sleep) instead of
+  // DISABLE_DEACTIVATION on every body.
+  bool sleeping = false;
 };
 
 // The settings that match the scene's tumble settings as closely as Bullet allows: the scene's

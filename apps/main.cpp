@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
 
   tumble::app::BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Time scenes in tumble and Bullet, alternating, with sleeping off");
+      "bench", "Time scenes in tumble and Bullet, alternating, with sleeping off and on");
   bench_cmd->add_option("scenes", bench.scenes, "Scene files (default: scenes/bench/*.yaml)");
   bench_cmd->add_option("-o,--output", bench.output_dir,
                         "Directory for the CSV files (default docs/benchmarks)");

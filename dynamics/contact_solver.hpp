@@ -104,6 +104,7 @@ class ContactSolver {
                const ContactSolverSettings& settings);
 
   int group_count() const { return static_cast<int>(groups_.size()); }
+  int group_point_count(int group) const { return groups_[std::size_t(group)].point_count; }
 
   // The solver works on its own compact copy of the velocities of the bodies a group's contacts
   // touch: load before the passes, store after them.

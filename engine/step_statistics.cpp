@@ -55,6 +55,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   contact_points += o.contact_points;
   solver_iterations += o.solver_iterations;
+  point_passes += o.point_passes;
   swept_bodies += o.swept_bodies;
   stopped_bodies += o.stopped_bodies;
   ccd_candidate_pairs += o.ccd_candidate_pairs;

@@ -43,6 +43,7 @@ struct StepStatistics {
   std::int64_t touching_pairs = 0;                             // pairs with a manifold
   std::int64_t contact_points = 0;
   std::int64_t solver_iterations = 0;
+  std::int64_t point_passes = 0;         // contact points times the soft and relax passes over them
   std::int64_t swept_bodies = 0;         // bodies swept by continuous collision detection
   std::int64_t stopped_bodies = 0;       // of those, stopped at a time of impact
   std::int64_t ccd_candidate_pairs = 0;  // pairs with a swept body whose motion boxes overlap

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 #include "collision/broad_phase_factory.hpp"
 #include "collision/narrow_phase.hpp"
@@ -551,6 +552,7 @@ void World::solve_contacts(int group) {
     for (int it = 0; it < settings.max_iterations; ++it) {
       const Real change = penalty_solver_.solve(state_.bodies);
       current_.solver_iterations += 1;
+      current_.point_passes += penalty_solver_.point_count();
       if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
         break;
     }
@@ -567,6 +569,7 @@ void World::solve_contacts(int group) {
     solver_.solve(group, /*use_bias=*/true);
   solver_.store_velocities(group, state_.bodies);
   current_.solver_iterations += w.iterations;
+  current_.point_passes += std::int64_t(w.iterations) * solver_.group_point_count(group);
 }
 
 // After the bodies moved: the separations, the relax passes that take out the push-out speed,
@@ -583,6 +586,7 @@ void World::relax_contacts(int group) {
     for (int it = 0; it < w.relax_iterations; ++it)
       solver_.solve(group, /*use_bias=*/false);
     current_.solver_iterations += w.relax_iterations;
+    current_.point_passes += std::int64_t(w.relax_iterations) * solver_.group_point_count(group);
   }
   StageTimer timer(current_, SolvePhase::restitution);
   solver_.apply_restitution(group);
@@ -606,6 +610,23 @@ void World::integrate_positions(int group, Real h) {
       continue;
     integrate_position(state_.bodies[i], carries_[i], h);
   }
+}
+
+WorldMemory World::memory() const {
+  WorldMemory m;
+  const auto bytes = [](const auto& v) {
+    return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
+  };
+  m.body_bytes = bytes(state_.bodies) + bytes(state_.slow_time) + bytes(state_.asleep) +
+                 bytes(state_.substep_level) + bytes(state_.substep_hold) + bytes(masses_) +
+                 bytes(bounding_radii_) + bytes(shape_poses_) + bytes(carries_) +
+                 bytes(speculative_margin_) + bytes(group_bodies_) + bytes(substeps_of_root_) +
+                 bytes(level_needed_) + bytes(level_before_) + bytes(hold_before_) +
+                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
+  m.contact_bytes = bytes(state_.contacts) + bytes(candidate_pairs_) + bytes(box_queries_) +
+                    bytes(box_manifolds_) + bytes(contacts_) + bytes(penalty_springs_) +
+                    bytes(group_of_contact_) + solver_.bytes_reserved();
+  return m;
 }
 
 Real World::kinetic_energy() const {

@@ -19,6 +19,13 @@
 
 namespace tumble {
 
+// Heap bytes a world holds (capacities), split into what grows with the bodies and what grows
+// with the contacts; the broad phase's own structure is not counted.
+struct WorldMemory {
+  std::size_t body_bytes = 0;
+  std::size_t contact_bytes = 0;
+};
+
 class World {
  public:
   explicit World(std::shared_ptr<const Scene> scene);
@@ -51,6 +58,8 @@ class World {
   // before the first step.
   std::span<const ProxyPair> candidate_pairs() const { return candidate_pairs_; }
   std::span<const PairContact> contacts() const { return contacts_; }
+
+  WorldMemory memory() const;
 
   // Totals over all bodies [J]: kinetic, and gravitational potential relative to the origin.
   Real kinetic_energy() const;
