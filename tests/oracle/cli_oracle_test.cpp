@@ -102,13 +102,20 @@ TEST(OracleCli, BenchWritesCsv) {
       run_cli("bench " + kScenes + "free_flight.yaml --repetitions 2 --steps 5 -o " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ratio tumble / Bullet"), std::string::npos);
+  EXPECT_NE(r.output.find("free_flight (sleeping on)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ns per point per pass"), std::string::npos) << r.output;
   std::ifstream csv(dir / "oracle_bench.csv");
-  std::string header, tumble, bullet;
+  std::string header, line;
   std::getline(csv, header);
-  std::getline(csv, tumble);
-  std::getline(csv, bullet);
-  EXPECT_EQ(tumble.rfind("free_flight,1,5,2,tumble,", 0), 0u) << tumble;
-  EXPECT_EQ(bullet.rfind("free_flight,1,5,2,bullet,", 0), 0u) << bullet;
+  EXPECT_NE(header.find("tumble_solve_soft_passes_ms"), std::string::npos) << header;
+  // Sleeping off, then on, each with a tumble and a Bullet row.
+  for (const char* start : {"free_flight,off,1,5,2,tumble,", "free_flight,off,1,5,2,bullet,",
+                            "free_flight,on,1,5,2,tumble,", "free_flight,on,1,5,2,bullet,"}) {
+    std::getline(csv, line);
+    EXPECT_EQ(line.rfind(start, 0), 0u) << line;
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "free_flight_steps.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "free_flight_sleeping_steps.csv"));
 }
 
 }  // namespace
