@@ -38,6 +38,9 @@ struct WorldSettings {
   int relax_iterations = 1;  // rigid velocity passes per substep
   BroadPhaseType broadphase = BroadPhaseType::automatic;
   CcdMode ccd = CcdMode::automatic;
+  // Contact recycling: a pair whose relative pose barely moved since its manifold was computed
+  // reuses it (collision/manifold_recycling.hpp). Off collides every candidate pair every step.
+  bool contact_recycling = true;
   // Contacts are created this far before the surfaces touch, plus the distance the bodies can
   // close in one step (speculative contacts), so that resting contacts never flicker. [m]
   Real contact_margin = Real(0.005);

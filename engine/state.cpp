@@ -78,6 +78,20 @@ std::uint64_t state_hash(const State& state) {
       h.add(m.points[k].friction_impulse);
     }
   }
+  h.add_u64(state.manifolds.size());
+  for (const RecyclableManifold& m : state.manifolds) {
+    h.add_u64(static_cast<std::uint64_t>(m.body_a));
+    h.add_u64(static_cast<std::uint64_t>(m.body_b));
+    h.add(m.relative_position);
+    h.add(m.relative_orientation);
+    h.add(m.normal);
+    h.add_u64(static_cast<std::uint64_t>(m.count));
+    for (int k = 0; k < m.count; ++k) {
+      h.add(m.point_a[std::size_t(k)]);
+      h.add(m.point_b[std::size_t(k)]);
+      h.add_u64(m.feature[std::size_t(k)].key());
+    }
+  }
   h.add_u64(state.asleep.size());
   for (std::size_t i = 0; i < state.asleep.size(); ++i) {
     h.add_u64(state.asleep[i]);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collision/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/scene.hpp"
@@ -16,6 +17,9 @@ struct State {
   std::int64_t step = 0;                 // steps taken
   std::vector<BodyState> bodies;         // one per Scene::bodies entry, same order
   std::vector<CachedManifold> contacts;  // sorted by (body_a, body_b)
+  // The touching pairs' manifolds in their bodies' frames, for contact recycling (sorted by
+  // pair; collision/manifold_recycling.hpp).
+  std::vector<RecyclableManifold> manifolds;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
   std::vector<Real> slow_time;

@@ -53,6 +53,8 @@ void StepStatistics::accumulate(const StepStatistics& o) {
     solve_phase_seconds[i] += o.solve_phase_seconds[i];
   candidate_pairs += o.candidate_pairs;
   touching_pairs += o.touching_pairs;
+  recycled_pairs += o.recycled_pairs;
+  recomputed_pairs += o.recomputed_pairs;
   contact_points += o.contact_points;
   solver_iterations += o.solver_iterations;
   point_passes += o.point_passes;

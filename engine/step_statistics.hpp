@@ -41,6 +41,8 @@ struct StepStatistics {
   std::array<double, kSolvePhaseCount> solve_phase_seconds{};  // the solve stage, split [s]
   std::int64_t candidate_pairs = 0;                            // broad-phase output
   std::int64_t touching_pairs = 0;                             // pairs with a manifold
+  std::int64_t recycled_pairs = 0;    // candidate pairs that reused their kept manifold
+  std::int64_t recomputed_pairs = 0;  // candidate pairs collided afresh
   std::int64_t contact_points = 0;
   std::int64_t solver_iterations = 0;
   std::int64_t point_passes = 0;         // contact points times the soft and relax passes over them

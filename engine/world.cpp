@@ -8,7 +8,10 @@
 #include <type_traits>
 
 #include "collision/broad_phase_factory.hpp"
+#include "collision/manifold_recycling.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
+#include "collision/sphere_batch.hpp"
 #include "engine/broad_phase_choice.hpp"
 
 namespace tumble {
@@ -58,6 +61,12 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   for (const BodyDesc& d : scene_->bodies) {
     masses_.push_back(BodyMass::make(d.mass, d.inertia, d.is_static));
     bounding_radii_.push_back(d.shape.is_bounded() ? bounding_radius(d.shape) : Real(0));
+    // Contact points on a curved surface (sphere, capsule, cylinder; compounds may have them)
+    // slide over it as the body turns, so a point carried rigidly with the body would lag: only
+    // pairs of flat-faced shapes recycle their manifolds.
+    const ShapeType t = d.shape.type;
+    flat_shape_.push_back(t == ShapeType::box || t == ShapeType::plane || t == ShapeType::hull ||
+                          t == ShapeType::mesh);
   }
   carries_.resize(n);
   speculative_margin_.resize(n);
@@ -104,6 +113,9 @@ void World::teleport(int body, const Vec3& position, const Quat& orientation) {
   b.orientation = orientation.normalized();
   std::erase_if(state_.contacts,
                 [body](const CachedManifold& m) { return m.body_a == body || m.body_b == body; });
+  std::erase_if(state_.manifolds, [body](const RecyclableManifold& m) {
+    return m.body_a == body || m.body_b == body;
+  });
   rebuild_broad_phase();
 }
 
@@ -284,12 +296,18 @@ void World::find_candidate_pairs() {
   current_.candidate_pairs += static_cast<std::int64_t>(candidate_pairs_.size());
 }
 
+// Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its
+// manifold was computed reuses it (collision/manifold_recycling.hpp); the others collide: box-box
+// pairs, the most common in box scenes, through the batched path all at once
+// (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
+// batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
 void World::collide_candidate_pairs() {
   StageTimer timer(current_, Stage::narrow_phase);
   contacts_.clear();
   penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
   const auto& materials = scene_->materials;
+  const WorldSettings& w = scene_->world;
   const auto margin_of = [&](const ProxyPair& pair) {
     return speculative_margin_[pair.a] + speculative_margin_[pair.b];
   };
@@ -297,32 +315,115 @@ void World::collide_candidate_pairs() {
     return bodies[pair.a].shape.type == ShapeType::box &&
            bodies[pair.b].shape.type == ShapeType::box;
   };
-  // Box-box pairs, the most common in box scenes, go through the batched path first, all at once
-  // (collide_box_pairs answers each as collide() does); the rest pair by pair below, in order.
+  const auto is_sphere_pair = [&](const ProxyPair& pair) {
+    return bodies[pair.a].shape.type == ShapeType::sphere &&
+           bodies[pair.b].shape.type == ShapeType::sphere;
+  };
+  const auto smaller_radius = [&](const ProxyPair& pair) {
+    const BodyDesc& a = bodies[pair.a];
+    const BodyDesc& b = bodies[pair.b];
+    return std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
+                    b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
+  };
+  // What each candidate's manifold comes from: the kept manifold (its index in
+  // state_.manifolds), or a fresh query (-1).
+  const std::size_t n = candidate_pairs_.size();
+  candidate_manifolds_.resize(n);
+  candidate_kept_.assign(n, -1);
   box_queries_.clear();
-  for (const ProxyPair& pair : candidate_pairs_) {
+  box_candidates_.clear();
+  sphere_x_.clear();
+  sphere_y_.clear();
+  sphere_z_.clear();
+  sphere_radius_.clear();
+  sphere_pairs_.clear();
+  sphere_candidates_.clear();
+  const std::vector<RecyclableManifold>& kept = state_.manifolds;
+  std::size_t cursor = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ProxyPair& pair = candidate_pairs_[i];
+    // Both lists are sorted by pair: walk them together.
+    while (cursor < kept.size() &&
+           (kept[cursor].body_a < pair.a ||
+            (kept[cursor].body_a == pair.a && kept[cursor].body_b < pair.b)))
+      ++cursor;
+    if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] && cursor < kept.size() &&
+        kept[cursor].body_a == pair.a && kept[cursor].body_b == pair.b &&
+        recycle(kept[cursor], shape_poses_[pair.a], shape_poses_[pair.b],
+                kRecycleDistance * smaller_radius(pair), kRecycleAngle, candidate_manifolds_[i])) {
+      candidate_kept_[i] = static_cast<std::int32_t>(cursor);
+      continue;
+    }
     if (is_box_pair(pair)) {
       box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
                               bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
                               margin_of(pair)});
+      box_candidates_.push_back(static_cast<std::int32_t>(i));
+    } else if (is_sphere_pair(pair)) {
+      for (const std::int32_t body : {pair.a, pair.b}) {
+        const Vec3& c = shape_poses_[std::size_t(body)].translation;
+        sphere_x_.push_back(c.x());
+        sphere_y_.push_back(c.y());
+        sphere_z_.push_back(c.z());
+        sphere_radius_.push_back(bodies[std::size_t(body)].shape.radius);
+      }
+      const auto first = static_cast<std::int32_t>(sphere_candidates_.size() * 2);
+      sphere_pairs_.push_back({first, first + 1});
+      sphere_candidates_.push_back(static_cast<std::int32_t>(i));
     }
   }
   if (box_manifolds_.size() < box_queries_.size())
     box_manifolds_.resize(box_queries_.size());
   collide_box_pairs(box_queries_, box_manifolds_);
-  std::size_t next_box_pair = 0;
-  for (const ProxyPair& pair : candidate_pairs_) {
+  for (std::size_t k = 0; k < box_candidates_.size(); ++k)
+    candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
+  // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
+  // keeps its own margin.
+  if (!sphere_pairs_.empty()) {
+    const std::size_t m = sphere_pairs_.size();
+    sphere_out_.resize(7 * m);
+    const SphereContactArrays out{sphere_out_.data(),         sphere_out_.data() + m,
+                                  sphere_out_.data() + 2 * m, sphere_out_.data() + 3 * m,
+                                  sphere_out_.data() + 4 * m, sphere_out_.data() + 5 * m,
+                                  sphere_out_.data() + 6 * m};
+    collide_sphere_pairs_dense(
+        {sphere_x_.data(), sphere_y_.data(), sphere_z_.data(), sphere_radius_.data()},
+        sphere_pairs_, 0, out);
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = std::size_t(sphere_candidates_[k]);
+      Manifold& manifold = candidate_manifolds_[i];
+      manifold.count = 0;
+      if (!(out.depth[k] >= -margin_of(candidate_pairs_[i])))
+        continue;
+      manifold.normal = Vec3(out.normal_x[k], out.normal_y[k], out.normal_z[k]);
+      manifold.add(Vec3(out.x[k], out.y[k], out.z[k]), out.depth[k],
+                   {detail::feature::kSphere, detail::feature::kSphere});
+    }
+  }
+
+  next_manifolds_.clear();
+  std::int64_t recycled = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ProxyPair& pair = candidate_pairs_[i];
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
-    PairContact pc;
-    if (is_box_pair(pair)) {
-      pc.manifold = box_manifolds_[next_box_pair++];
-      if (pc.manifold.count == 0)
-        continue;
-    } else if (collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b],
-                       margin_of(pair), pc.manifold) == 0) {
-      continue;
+    Manifold& manifold = candidate_manifolds_[i];
+    if (candidate_kept_[i] >= 0) {
+      ++recycled;
+      next_manifolds_.push_back(kept[std::size_t(candidate_kept_[i])]);
+    } else {
+      if (!is_box_pair(pair) && !is_sphere_pair(pair))
+        collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b], margin_of(pair),
+                manifold);
+      if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
+        next_manifolds_.push_back(
+            make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
+      }
     }
+    if (manifold.count == 0)
+      continue;
+    PairContact pc;
+    pc.manifold = manifold;
     pc.body_a = pair.a;
     pc.body_b = pair.b;
     const Material& ma = materials[a.material];
@@ -331,17 +432,17 @@ void World::collide_candidate_pairs() {
     pc.restitution = std::max(ma.restitution, mb.restitution);
     // A twentieth of the smaller body's size: far below the spacing of distinct contact
     // points, far above the drift of one point between steps.
-    pc.match_distance =
-        Real(0.05) *
-        std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
-                 b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
+    pc.match_distance = Real(0.05) * smaller_radius(pair);
     contacts_.push_back(pc);
     // The softer material sets the spring, the more damped one the damper: a rubber ball on
     // steel deforms like rubber.
     penalty_springs_.push_back(
         PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
   }
+  state_.manifolds.swap(next_manifolds_);
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
+  current_.recycled_pairs += recycled;
+  current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled;
 }
 
 void World::prepare_contacts() {

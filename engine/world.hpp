@@ -8,6 +8,8 @@
 
 #include "collision/box_batch.hpp"
 #include "collision/broad_phase.hpp"
+#include "collision/manifold_recycling.hpp"
+#include "collision/sphere_batch.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
 #include "dynamics/penalty_solver.hpp"
@@ -73,6 +75,12 @@ class World {
   // The penalty solver iterates each substep to convergence, at most this many passes (or the
   // scene's `iterations` when larger).
   static constexpr int kMaxPenaltyIterations = 64;
+  // Contact recycling (collision/manifold_recycling.hpp): a pair reuses its manifold while B's
+  // pose relative to A stays within this fraction of the smaller body's bounding radius and this
+  // angle [rad] of the pose it was computed at. A thousandth of the size keeps the recycled
+  // points within that of where a fresh query puts them (docs/narrow-phase.md, "Recycling").
+  static constexpr Real kRecycleDistance = Real(1e-3);
+  static constexpr Real kRecycleAngle = Real(2e-3);
 
  private:
   void update_bounds(Real dt);
@@ -96,6 +104,7 @@ class World {
   // Fixed per scene.
   std::vector<BodyMass> masses_;
   std::vector<Real> bounding_radii_;
+  std::vector<bool> flat_shape_;        // recycles its manifolds (collide_candidate_pairs)
   std::vector<Transform> shape_poses_;  // scratch, current pose per body
   BroadPhaseType broad_phase_type_ = BroadPhaseType::brute;
   std::unique_ptr<BroadPhase> broad_phase_;
@@ -104,8 +113,18 @@ class World {
   std::vector<GyroscopicCarry> carries_;
   std::vector<Real> speculative_margin_;
   std::vector<ProxyPair> candidate_pairs_;
-  std::vector<BoxPairQuery> box_queries_;  // the box-box candidate pairs, in order
-  std::vector<Manifold> box_manifolds_;    // their manifolds
+  std::vector<BoxPairQuery> box_queries_;     // the box-box candidate pairs to collide, in order
+  std::vector<std::int32_t> box_candidates_;  // their candidate indices
+  std::vector<Manifold> box_manifolds_;       // their manifolds
+  // The sphere-sphere candidate pairs to collide: two spheres per pair as arrays, the pairs, and
+  // their candidate indices; the batch's answers (7 arrays of one value per pair).
+  std::vector<Real> sphere_x_, sphere_y_, sphere_z_, sphere_radius_;
+  std::vector<SpherePair> sphere_pairs_;
+  std::vector<std::int32_t> sphere_candidates_;
+  std::vector<Real> sphere_out_;
+  std::vector<Manifold> candidate_manifolds_;  // per candidate pair
+  std::vector<std::int32_t> candidate_kept_;   // per candidate: its recycled entry, or -1
+  std::vector<RecyclableManifold> next_manifolds_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
   // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's

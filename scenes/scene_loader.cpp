@@ -153,11 +153,11 @@ constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 1
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
 // clang-format off
-constexpr std::array<std::string_view, 21> kWorldKeys{
+constexpr std::array<std::string_view, 22> kWorldKeys{
     "gravity", "dt", "duration", "steps", "substeps", "max_substeps", "solver", "iterations",
-    "relax_iterations", "broadphase", "ccd", "contact_margin", "penetration_slop",
-    "contact_hertz", "sag_tolerance", "contact_damping_ratio", "max_push_velocity",
-    "restitution_threshold", "sleeping", "sleep_speed", "sleep_time"};
+    "relax_iterations", "broadphase", "ccd", "contact_recycling", "contact_margin",
+    "penetration_slop", "contact_hertz", "sag_tolerance", "contact_damping_ratio",
+    "max_push_velocity", "restitution_threshold", "sleeping", "sleep_speed", "sleep_time"};
 // clang-format on
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
@@ -819,6 +819,9 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
     } else {
       fail(x->mark(), path("ccd"), "expected one of: auto, on, off, got " + describe(x->value));
     }
+  }
+  if (const Entry* x = f.find("contact_recycling")) {
+    w.contact_recycling = read_bool(*x, path("contact_recycling"));
   }
   if (const Entry* x = f.find("contact_margin")) {
     w.contact_margin = read_real(*x, path("contact_margin"), kDistance);

@@ -11,6 +11,12 @@
 #include "engine/world.hpp"
 #include "scenes/scene_loader.hpp"
 
+// These replacements take memory from malloc and give it back to free, which GCC cannot see
+// through (it warns that free() meets memory from operator new).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 namespace {
 std::atomic<long> g_allocations{0};
 }  // namespace
@@ -85,14 +91,16 @@ TEST(StepAllocation, AfterTheFirstStepsAStepAllocatesNothing) {
   }
   // Resting and settling scenes of every kind: boxes in a tall pyramid (the box batch, colours,
   // substeps per island), mixed shapes (every pair path), a box on a mesh, a heavy body on a
-  // light one (the most substeps), and a scene with sleeping.
+  // light one (the most substeps), and a scene with sleeping. Each is measured once it has
+  // settled (the demo runs at 240 Hz: 1200 steps are 5 s), since a pile still falling together
+  // meets more pairs than ever before, and the buffers grow to hold them.
   struct Case {
     const char* scene;
     int warm_up;
     int measured;
   };
   for (const Case& c :
-       {Case{"bench/pyramid_20.yaml", 120, 120}, Case{"demo.yaml", 480, 120},
+       {Case{"bench/pyramid_20.yaml", 120, 120}, Case{"demo.yaml", 1200, 240},
         Case{"mesh_slide.yaml", 60, 60}, Case{"stability/defaults_heavy_on_light.yaml", 60, 60},
         Case{"stability/sleeping_drop.yaml", 120, 120}, Case{"shapes_drop.yaml", 240, 120}}) {
     EXPECT_EQ(allocations_after_warm_up(c.scene, c.warm_up, c.measured), 0) << c.scene;

@@ -70,6 +70,7 @@ TEST(SceneLoader, EveryFieldArrives) {
   EXPECT_EQ(w.relax_iterations, 3);
   EXPECT_EQ(w.broadphase, BroadPhaseType::brute);
   EXPECT_EQ(w.ccd, CcdMode::on);
+  EXPECT_FALSE(w.contact_recycling);
   EXPECT_DOUBLE_EQ(w.contact_margin, 0.01);
   EXPECT_DOUBLE_EQ(w.penetration_slop, 0.001);
   ASSERT_TRUE(w.contact_hertz.has_value());
@@ -181,6 +182,7 @@ TEST(SceneLoader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_EQ(w.relax_iterations, 1);
   EXPECT_EQ(w.broadphase, BroadPhaseType::automatic);
   EXPECT_EQ(w.ccd, CcdMode::automatic);
+  EXPECT_TRUE(w.contact_recycling);
   EXPECT_DOUBLE_EQ(w.contact_margin, 0.005);
   EXPECT_DOUBLE_EQ(w.penetration_slop, 0.0001);
   EXPECT_FALSE(w.contact_hertz.has_value()) << "auto: set from the substep rate";
@@ -472,6 +474,7 @@ TEST(SceneFormatDoc, DocumentsEveryField) {
                           "relax_iterations",
                           "broadphase",
                           "ccd",
+                          "contact_recycling",
                           "contact_margin",
                           "penetration_slop",
                           "contact_hertz",
