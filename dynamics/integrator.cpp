@@ -55,6 +55,17 @@ void integrate_velocity(BodyState& s, const BodyMass& m, const Vec3& gravity, Re
 
 void integrate_position(BodyState& s, const GyroscopicCarry& carry, Real h) {
   s.position += h * s.velocity;
+  if (carry.half_change_body.isZero(0)) {
+    // No gyroscopic carry (a body whose inertia is a multiple of the identity): the rotation is
+    // about w itself, so it can be made in the world frame, q <- cay(h w) q, and w, turned about
+    // its own axis, stays as it is. The same rotation as below without the two trips to the body
+    // frame.
+    const Vec3 half = Real(0.5) * h * s.angular_velocity;
+    Quat increment(1, half.x(), half.y(), half.z());
+    increment.normalize();
+    s.orientation = (increment * s.orientation).normalized();
+    return;
+  }
   const Vec3 w2_body = rotate_keeping_length(s.orientation.conjugate(), s.angular_velocity);
   // Pose rotation rate: the solved velocity less the half of the gyroscopic change that belongs
   // to the next step (midpoint rule); contact impulses act in full, as in symplectic Euler, so
