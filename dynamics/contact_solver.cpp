@@ -70,7 +70,7 @@ std::size_t ContactSolver::bytes_reserved() const {
 void ContactSolver::build(std::span<const PairContact> contacts,
                           std::span<const CachedManifold> previous,
                           std::span<const BodyState> bodies, std::span<const BodyMass> masses,
-                          Real dt, Real gravity) {
+                          Real dt, const Vec3& gravity) {
   records_.resize(contacts.size());
   loads_.resize(contacts.size());
   start_position_.resize(bodies.size());
@@ -128,12 +128,15 @@ void ContactSolver::build(std::span<const PairContact> contacts,
             rn_b[std::size_t(i)].dot(m.points[std::size_t(j)].in_b);
       }
     }
-    // The load: what the warm start says the points carried, and at least the heavier body's
-    // weight shared by the points, so that a heavy body on a light one is known from the first
-    // step it touches (before a soft contact has sunk under it).
-    const Real heavier = std::max(m.inv_mass_a == 0 ? Real(0) : 1 / m.inv_mass_a,
-                                  m.inv_mass_b == 0 ? Real(0) : 1 / m.inv_mass_b);
-    const Real weight_share = m.count > 0 ? gravity * heavier / m.count : Real(0);
+    // The load: what the warm start says the points carried, and at least the weight of the
+    // body on top (the one the normal points up into) shared by the points, so that a heavy body
+    // on a light one is known from the first step it touches (before a soft contact has sunk
+    // under it). A light body on a heavy one loads the contact with its own weight only.
+    const Real up = gravity.squaredNorm() > 0 ? -m.normal.dot(gravity.normalized()) : Real(0);
+    const Real upper_inverse_mass = up >= 0 ? m.inv_mass_a : m.inv_mass_b;  // n from B to A
+    const Real upper = upper_inverse_mass == 0 ? Real(0) : 1 / upper_inverse_mass;
+    const Real weight_share =
+        m.count > 0 ? gravity.norm() * std::abs(up) * upper / m.count : Real(0);
     const CachedManifold* cached = find_cached(previous, a, b);
     if (cached != nullptr)
       warm_start_from(*cached, pc.match_distance, m);
@@ -258,7 +261,7 @@ void ContactSolver::prepare(std::span<const PairContact> contacts,
                             std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                             const ContactSolverSettings& settings) {
   build(contacts, previous, bodies, masses, settings.substep * Real(std::max(1, settings.substeps)),
-        0);
+        Vec3::Zero());
   single_group_.assign(contacts.size(), 0);
   pack(single_group_, std::span(&settings, 1));
 }

@@ -64,7 +64,7 @@ struct PairContact {
 // What loads a contact's points, per unit effective mass (force times the point's J M^-1 J^T).
 struct ContactLoad {
   Real warm = 0;    // the largest warm-start impulse over dt [m/s^2]
-  Real weight = 0;  // the heavier body's weight shared by the points [m/s^2]
+  Real weight = 0;  // the upper body's weight shared by the points [m/s^2]
   // The largest J M^-1 J^T of the points [1/kg]: a force F on the point loads it F times this.
   Real inverse_effective_mass = 0;
 };
@@ -84,10 +84,10 @@ class ContactSolver {
 
   // First half of the preparation: the constraints for `contacts` (sorted by pair) from the
   // bodies' poses at the start of the step, with warm-start impulses from `previous` (sorted by
-  // pair), a step of `dt` long under gravity of magnitude `gravity` [m/s^2].
+  // pair), a step of `dt` long under `gravity` [m/s^2].
   void build(std::span<const PairContact> contacts, std::span<const CachedManifold> previous,
              std::span<const BodyState> bodies, std::span<const BodyMass> masses, Real dt,
-             Real gravity);
+             const Vec3& gravity);
   // For each contact of the last build (in its order), the forces that load its points per unit
   // effective mass [m/s^2]. A soft contact of angular frequency omega settles load / omega^2
   // deep, so the world picks an island's substeps from them (docs/architecture.md, "Substeps

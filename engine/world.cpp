@@ -474,7 +474,7 @@ void World::prepare_contacts() {
   }
   {
     StageTimer timer(current_, SolvePhase::prepare);
-    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity.norm());
+    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
   }
   {
     StageTimer timer(current_, SolvePhase::islands_and_sleep);
@@ -537,8 +537,19 @@ void World::choose_substeps() {
       const Real tolerance = w.sag_tolerance * radius;
       if (!(tolerance > 0))
         continue;
+      // What the contact carried last step counts only while the pair rests (its points close or
+      // part slower than the restitution threshold), and then at most the island's weight: more
+      // is an impact, which a stiffer spring need not hold up.
+      const BodyState& sa = state_.bodies[std::size_t(pc.body_a)];
+      const BodyState& sb = state_.bodies[std::size_t(pc.body_b)];
+      const Vec3& p = pc.manifold.points[0].position;
+      const Real approach =
+          pc.manifold.normal.dot(sa.velocity + sa.angular_velocity.cross(p - sa.position) -
+                                 sb.velocity - sb.angular_velocity.cross(p - sb.position));
+      const bool resting = std::abs(approach) <= w.restitution_threshold;
       const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
-      const Real needed_load = std::max(load[c].weight, std::min(load[c].warm, at_rest));
+      const Real needed_load =
+          std::max(load[c].weight, resting ? std::min(load[c].warm, at_rest) : Real(0));
       if (!(needed_load > 0))
         continue;
       // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
