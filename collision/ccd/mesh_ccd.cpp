@@ -18,16 +18,21 @@
 //      vertex-face: F = p(t) - a(t) - u (b(t) - a(t)) - v (c(t) - a(t)), u, v >= 0, u + v <= 1
 //      edge-edge:   F = a0(t) + u (a1(t) - a0(t)) - b0(t) - v (b1(t) - b0(t)), u, v in [0, 1].
 //    F is affine in each of t, u and v separately (multilinear), so over a box of parameters
-//    its values lie in the convex hull of its values at the 8 corners. A box whose corner
-//    values, widened by their rounding bound, leave zero out on some axis holds no contact and
-//    is dropped; otherwise it is split along the parameter that spreads F most. A box whose
-//    image is narrower than the tolerance is reported as a contact at its earliest time; boxes
-//    are taken earliest first, so the first contact box ends the search. This
-//    is the inclusion test of Wang, Ferguson, Schneider, Jiang, Attene and Panozzo, "A
-//    Large-scale Benchmark and an Inclusion-based Algorithm for Continuous Collision
-//    Detection", ACM TOG 40(5), 2021, with the box bounded by its corners (exact for
-//    multilinear F) and restricted to the time intervals of stage 1. Degenerate motions need no
-//    special case: a coplanar sliding vertex is decided by the same boxes as any other.
+//    each of its components, and its component along any fixed direction, lies between its
+//    values at the 8 corners. A box holds no contact if, on some direction, the corner values
+//    widened by their rounding bound leave zero out. The directions are the three axes and, for
+//    the triangle, its normal and its three edges' normals in its plane at the box's middle
+//    time: the axes alone leave a vertex that slides in the plane of the triangle just outside
+//    an edge to boxes no wider than the gap, a curve of them over the motion (a search that ran
+//    out of boxes); the edge's normal separates it at once. A box not excluded is split along
+//    the parameter that spreads F most. A box whose image is narrower than the tolerance is
+//    reported as a contact at its earliest time; boxes are taken earliest first, so the first
+//    contact box ends the search. This is the inclusion test of Wang, Ferguson, Schneider,
+//    Jiang, Attene and Panozzo, "A Large-scale Benchmark and an Inclusion-based Algorithm for
+//    Continuous Collision Detection", ACM TOG 40(5), 2021, with the box bounded by its corners
+//    (exact for multilinear F) and restricted to the time intervals of stage 1. Degenerate
+//    motions need no special case: a coplanar sliding vertex is decided by the same boxes as
+//    any other.
 //
 // Rounding: every bound assumes round-to-nearest doubles and is a generous multiple of the
 // worst case, measured against M, the largest coordinate magnitude in the query. Parameters
@@ -152,16 +157,61 @@ struct Box {
   std::int32_t depth;  // splits from the interval's box: orders boxes that start together
 };
 
-void positions_at(const Query& q, Real t, std::array<Vec3, 4>& x) {
+// F at one time as o - u e - v g.
+struct Residual {
+  Vec3 o, e, g;
+};
+
+Residual residual_at(const Query& q, Real t) {
   const Real s = 1 - t;  // exact: t is dyadic
+  std::array<Vec3, 4> x;
   for (int i = 0; i < 4; ++i)
     x[i] = s * q.start[i] + t * q.end[i];
+  if (q.feature == Feature::vertex_face)
+    return {x[0] - x[1], x[2] - x[1], x[3] - x[1]};  // p - a, b - a, c - a
+  return {x[0] - x[2], x[0] - x[1], x[3] - x[2]};    // a0 - b0, a0 - a1, b1 - b0
 }
 
-Vec3 residual(Feature feature, const std::array<Vec3, 4>& x, Real u, Real v) {
-  if (feature == Feature::vertex_face)
-    return (x[0] - x[1]) - u * (x[2] - x[1]) - v * (x[3] - x[1]);
-  return (x[0] + u * (x[1] - x[0])) - (x[2] + v * (x[3] - x[2]));
+Vec3 residual(const Residual& r, Real u, Real v) {
+  return r.o - u * r.e - v * r.g;
+}
+
+// The directions besides the axes on which the corner values of F are tested (see the top of
+// the file): for the triangle its normal and its edges' normals in its plane, here at the box's
+// middle time. Any vector is sound (the hull property holds along every fixed direction); these
+// only need to be close to the separating ones. Returns how many were written.
+int separating_directions(Feature feature, const Residual& r0, const Residual& r1,
+                          std::array<Vec3, 4>& out) {
+  if (feature != Feature::vertex_face)
+    return 0;
+  const Vec3 ab = r0.e + r1.e;  // twice the mid-time edges; the length does not matter
+  const Vec3 ac = r0.g + r1.g;
+  const Vec3 n = ab.cross(ac);
+  out[0] = n;
+  out[1] = ab.cross(n);
+  out[2] = n.cross(ac);
+  out[3] = (ac - ab).cross(n);
+  return 4;
+}
+
+// True if the values `f` leave zero out along `d` by more than their rounding. Each value has
+// an error below `residual_error` per component, and the dot product adds at most 3u sum |d_k
+// f_k| < 21 u M |d|_1 (|f_k| < 7M): with d scaled to a largest component of 1 (|d|_1 <= 3),
+// 2 |d|_1 residual_error covers both. A direction too short to scale is skipped (no verdict).
+bool separated_along(Vec3 d, const std::array<Vec3, 8>& f, Real residual_error) {
+  const Real scale = d.cwiseAbs().maxCoeff();
+  if (!(scale >= std::numeric_limits<Real>::min()) || !std::isfinite(scale))
+    return false;
+  d /= scale;
+  const Real bound = 2 * d.lpNorm<1>() * residual_error;
+  Real lo = d.dot(f[0]);
+  Real hi = lo;
+  for (int c = 1; c < 8; ++c) {
+    const Real value = d.dot(f[c]);
+    lo = std::min(lo, value);
+    hi = std::max(hi, value);
+  }
+  return lo > bound || hi < -bound;
 }
 
 enum class BoxVerdict : std::uint8_t { excluded, contact, split_t, split_u, split_v };
@@ -169,15 +219,12 @@ enum class BoxVerdict : std::uint8_t { excluded, contact, split_t, split_u, spli
 BoxVerdict examine(const Query& q, const Box& box, Real residual_error, Real tolerance) {
   if (q.feature == Feature::vertex_face && box.u0 + box.v0 > 1)
     return BoxVerdict::excluded;  // wholly outside the triangle's parameter domain
-  std::array<Vec3, 4> x0;
-  std::array<Vec3, 4> x1;
-  positions_at(q, box.t0, x0);
-  positions_at(q, box.t1, x1);
+  const Residual r0 = residual_at(q, box.t0);
+  const Residual r1 = residual_at(q, box.t1);
   // corner index: bit 0 = t, bit 1 = u, bit 2 = v.
   std::array<Vec3, 8> f;
   for (int c = 0; c < 8; ++c) {
-    f[c] = residual(q.feature, (c & 1) ? x1 : x0, (c & 2) ? box.u1 : box.u0,
-                    (c & 4) ? box.v1 : box.v0);
+    f[c] = residual((c & 1) ? r1 : r0, (c & 2) ? box.u1 : box.u0, (c & 4) ? box.v1 : box.v0);
   }
   Vec3 lo = f[0];
   Vec3 hi = f[0];
@@ -187,6 +234,12 @@ BoxVerdict examine(const Query& q, const Box& box, Real residual_error, Real tol
   }
   for (int k = 0; k < 3; ++k) {
     if (lo[k] > residual_error || hi[k] < -residual_error)
+      return BoxVerdict::excluded;
+  }
+  std::array<Vec3, 4> directions;
+  const int count = separating_directions(q.feature, r0, r1, directions);
+  for (int i = 0; i < count; ++i) {
+    if (separated_along(directions[i], f, residual_error))
       return BoxVerdict::excluded;
   }
   if ((hi - lo).maxCoeff() <= tolerance)
@@ -359,9 +412,10 @@ MeshCcdResult feature_ccd(Feature feature, const std::array<Vec3, 4>& start,
     q.magnitude =
         std::max({q.magnitude, start[i].cwiseAbs().maxCoeff(), end[i].cwiseAbs().maxCoeff()});
   }
-  // A residual at a corner is a handful of interpolations, differences and products of numbers
-  // below 2M with |u|, |v| <= 1: below 40 u M. Take ten times that, plus the smallest normal
-  // number so that underflow cannot hide a contact.
+  // A residual at a corner, o - u e - v g: interpolated coordinates (error 3 u M), their
+  // differences (below 2M, error 8 u M), products with u and v in [0, 1] and two sums: below
+  // 40 u M in all. Take ten times that, plus the smallest normal number so that underflow
+  // cannot hide a contact.
   const Real residual_error = 512 * kUnitRoundoff * q.magnitude + std::numeric_limits<Real>::min();
   const Real tolerance = settings.tolerance > 0 ? settings.tolerance : MeshCcdSettings{}.tolerance;
 
