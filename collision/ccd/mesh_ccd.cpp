@@ -62,8 +62,9 @@ constexpr Real kMinParameterWidth = Real(1) / Real(1ull << 50);
 constexpr int kMaxCubicDepth = 10;
 constexpr int kMaxTimeIntervals = 32;
 constexpr int kStackSize = 200;  // > the deepest chain of splits (3 * 50 parameters)
-// Open boxes kept in time order (stage 2). The vertex-face queries of the sample and of
-// bench_ccd's sliding set keep at most 85 open; more go depth first (see search_interval).
+// Open boxes kept in time order (stage 2), 7 KB. The vertex-face queries of the sample and of
+// bench_ccd's sliding set keep at most 85 open; coplanar motions can keep thousands, and the
+// latest of those are dropped and searched again later (see search_interval).
 constexpr int kQueueSize = 128;
 
 struct Query {
@@ -291,6 +292,7 @@ class BoxQueue {
   bool empty() const { return size_ == 0; }
   bool has_room_for_two() const { return size_ + 2 <= kQueueSize; }
   const Box& earliest() const { return boxes_[0]; }
+  void clear() { size_ = 0; }
   void push(const Box& box) {
     boxes_[size_++] = box;
     std::push_heap(boxes_.begin(), boxes_.begin() + size_, later);
@@ -298,6 +300,25 @@ class BoxQueue {
   Box pop() {
     std::pop_heap(boxes_.begin(), boxes_.begin() + size_, later);
     return boxes_[--size_];
+  }
+  // Drops every box that starts at or after a cut time, chosen so that about the latest
+  // quarter goes, and returns it; returns `floor` (dropping nothing) if no box starts later.
+  Real cut(Real floor) {
+    std::array<Real, kQueueSize> starts;
+    for (int i = 0; i < size_; ++i)
+      starts[i] = boxes_[i].t0;
+    const int k = size_ - size_ / 4;
+    std::nth_element(starts.begin(), starts.begin() + k, starts.begin() + size_);
+    Real time = starts[k];
+    if (time <= floor)
+      time = *std::max_element(starts.begin(), starts.begin() + size_);
+    if (time <= floor)
+      return floor;
+    size_ = static_cast<int>(std::remove_if(boxes_.begin(), boxes_.begin() + size_,
+                                            [time](const Box& b) { return b.t0 >= time; }) -
+                             boxes_.begin());
+    std::make_heap(boxes_.begin(), boxes_.begin() + size_, later);
+    return time;
   }
 
  private:
@@ -359,18 +380,29 @@ bool depth_first(Search& s, const Box& first, const Box& second, Real& earliest)
 // slides along an edge within rounding of it (erleben-cube-cliff-edges/vertex-face) met a
 // contact box late in the step and walked back towards the first contact one box at a time:
 // 3,100 boxes for one query with barycentric parameters, 38,000 with the collapsed square.
-// When the queue is full, the box's halves are searched depth first instead, which is as
-// sound, only slower.
+// When the queue is full, its latest-starting boxes are dropped and the time they start from
+// is kept (`resume`): if nothing before it holds a contact, the search starts again there with
+// the whole (u, v) square. If every open box starts together, the box's halves are searched
+// depth first instead. Both are as sound as the queue, only slower.
 bool search_interval(const Query& q, const TimeInterval& interval, Real tolerance,
                      Real residual_error, std::int32_t& boxes_left, MeshCcdResult& result) {
   Search s{q, tolerance, residual_error, boxes_left, result};
   BoxQueue queue;
   queue.push({interval.begin, interval.end, 0, 1, 0, 1, 0});
-  while (!queue.empty()) {
+  Real resume = interval.end;  // boxes starting at or after this were dropped
+  for (;;) {
+    if (queue.empty()) {
+      if (resume >= interval.end || (s.found && s.best <= resume))
+        break;
+      queue.push({resume, interval.end, 0, 1, 0, 1, 0});
+      resume = interval.end;
+    }
     const Box box = queue.pop();
-    if (s.found && box.t0 >= s.best)
-      break;  // every open box starts later than a contact found depth first
-    Real earliest = box.t0;
+    if (s.found && box.t0 >= s.best) {
+      queue.clear();  // every open box starts later than a contact found depth first
+      continue;
+    }
+    Real earliest = box.t0;  // the earliest open start: the queue and `resume` start later
     bool capped = s.boxes_left == 0;
     if (!capped) {
       --s.boxes_left;
@@ -385,16 +417,23 @@ bool search_interval(const Query& q, const TimeInterval& interval, Real toleranc
         continue;
       Box first, second;
       split(box, verdict, first, second);
+      if (!queue.has_room_for_two())
+        resume = std::min(resume, queue.cut(box.t0));
       if (queue.has_room_for_two()) {
-        queue.push(first);
-        queue.push(second);
+        for (const Box& half : {first, second}) {
+          if (half.t0 < resume)
+            queue.push(half);
+        }
         continue;
       }
       capped = !depth_first(s, first, second, earliest);
+      if (capped) {
+        earliest = std::min(earliest, resume);
+        if (!queue.empty())
+          earliest = std::min(earliest, queue.earliest().t0);
+      }
     }
     if (capped) {
-      if (!queue.empty())
-        earliest = std::min(earliest, queue.earliest().t0);
       result.status = MeshCcdStatus::max_iterations;
       result.time_of_impact = s.found ? std::min(s.best, earliest) : earliest;
       return true;
