@@ -290,15 +290,14 @@ void split(const Box& box, BoxVerdict verdict, Box& first, Box& second) {
 class BoxQueue {
  public:
   bool empty() const { return size_ == 0; }
-  bool has_room_for_two() const { return size_ + 2 <= kQueueSize; }
-  const Box& earliest() const { return boxes_[0]; }
+  bool full() const { return size_ == kQueueSize; }
   void clear() { size_ = 0; }
   void push(const Box& box) {
     boxes_[size_++] = box;
-    std::push_heap(boxes_.begin(), boxes_.begin() + size_, later);
+    std::push_heap(boxes_.begin(), boxes_.begin() + size_, Later{});
   }
   Box pop() {
-    std::pop_heap(boxes_.begin(), boxes_.begin() + size_, later);
+    std::pop_heap(boxes_.begin(), boxes_.begin() + size_, Later{});
     return boxes_[--size_];
   }
   // Drops every box that starts at or after a cut time, chosen so that about the latest
@@ -317,14 +316,16 @@ class BoxQueue {
     size_ = static_cast<int>(std::remove_if(boxes_.begin(), boxes_.begin() + size_,
                                             [time](const Box& b) { return b.t0 >= time; }) -
                              boxes_.begin());
-    std::make_heap(boxes_.begin(), boxes_.begin() + size_, later);
+    std::make_heap(boxes_.begin(), boxes_.begin() + size_, Later{});
     return time;
   }
 
  private:
-  static bool later(const Box& a, const Box& b) {
-    return a.t0 != b.t0 ? a.t0 > b.t0 : a.depth < b.depth;
-  }
+  struct Later {  // a function object, so that the heap's comparisons are inlined
+    bool operator()(const Box& a, const Box& b) const {
+      return a.t0 != b.t0 ? a.t0 > b.t0 : a.depth < b.depth;
+    }
+  };
   std::array<Box, kQueueSize> boxes_;
   int size_ = 0;
 };
@@ -341,23 +342,18 @@ struct Search {
   Real best = 1;
 };
 
-// Depth-first search of `first` and `second` (with a bounded stack), for when the queue is full.
-// Returns false if it ran out of boxes, with `earliest` the earliest start still open there.
-bool depth_first(Search& s, const Box& first, const Box& second, Real& earliest) {
+// Depth-first search of `start` (with a bounded stack), for when the queue is full. Returns
+// false if it ran out of boxes.
+bool depth_first(Search& s, const Box& start) {
   std::array<Box, kStackSize> stack;
   int top = 0;
-  stack[top++] = second;
-  stack[top++] = first;
+  stack[top++] = start;
   while (top > 0) {
     const Box box = stack[--top];
     if (s.found && box.t0 >= s.best)
       continue;
-    if (s.boxes_left == 0) {
-      earliest = box.t0;
-      for (int i = 0; i < top; ++i)
-        earliest = std::min(earliest, stack[i].t0);
+    if (s.boxes_left == 0)
       return false;
-    }
     --s.boxes_left;
     ++s.result.boxes;
     const BoxVerdict verdict = examine(s.q, box, s.residual_error, s.tolerance);
@@ -380,31 +376,30 @@ bool depth_first(Search& s, const Box& first, const Box& second, Real& earliest)
 // slides along an edge within rounding of it (erleben-cube-cliff-edges/vertex-face) met a
 // contact box late in the step and walked back towards the first contact one box at a time:
 // 3,100 boxes for one query with barycentric parameters, 38,000 with the collapsed square.
+// Only the later half of a split in t goes into the queue: the lower half of any split is taken
+// next, and the upper half of a split in u or v, which starts as early, goes on a stack that is
+// emptied before the queue is touched (a heap operation per box cost more than the box).
 // When the queue is full, its latest-starting boxes are dropped and the time they start from
 // is kept (`resume`): if nothing before it holds a contact, the search starts again there with
-// the whole (u, v) square. If every open box starts together, the box's halves are searched
-// depth first instead. Both are as sound as the queue, only slower.
+// the whole (u, v) square. If every open box starts together, the later half is searched depth
+// first instead. Both are as sound as the queue, only slower.
 bool search_interval(const Query& q, const TimeInterval& interval, Real tolerance,
                      Real residual_error, std::int32_t& boxes_left, MeshCcdResult& result) {
   Search s{q, tolerance, residual_error, boxes_left, result};
-  BoxQueue queue;
-  queue.push({interval.begin, interval.end, 0, 1, 0, 1, 0});
+  BoxQueue queue;                     // boxes that start later than `box`, or as late
+  std::array<Box, kStackSize> stack;  // boxes that start with `box`
+  int top = 0;
   Real resume = interval.end;  // boxes starting at or after this were dropped
+  Box box{interval.begin, interval.end, 0, 1, 0, 1, 0};
   for (;;) {
-    if (queue.empty()) {
-      if (resume >= interval.end || (s.found && s.best <= resume))
-        break;
-      queue.push({resume, interval.end, 0, 1, 0, 1, 0});
-      resume = interval.end;
-    }
-    const Box box = queue.pop();
+    // Here `box` starts no later than any open box (stacked, queued or from `resume` on).
+    bool capped = false;
     if (s.found && box.t0 >= s.best) {
-      queue.clear();  // every open box starts later than a contact found depth first
-      continue;
-    }
-    Real earliest = box.t0;  // the earliest open start: the queue and `resume` start later
-    bool capped = s.boxes_left == 0;
-    if (!capped) {
+      top = 0;  // every open box starts later than a contact found depth first
+      queue.clear();
+    } else if (s.boxes_left == 0) {
+      capped = true;
+    } else {
       --s.boxes_left;
       ++result.boxes;
       const BoxVerdict verdict = examine(q, box, residual_error, tolerance);
@@ -413,31 +408,46 @@ bool search_interval(const Query& q, const TimeInterval& interval, Real toleranc
         result.time_of_impact = box.t0;  // <= s.best: checked above
         return true;
       }
-      if (verdict == BoxVerdict::excluded)
-        continue;
-      Box first, second;
-      split(box, verdict, first, second);
-      if (!queue.has_room_for_two())
-        resume = std::min(resume, queue.cut(box.t0));
-      if (queue.has_room_for_two()) {
-        for (const Box& half : {first, second}) {
-          if (half.t0 < resume)
-            queue.push(half);
+      if (verdict != BoxVerdict::excluded) {
+        Box first, second;
+        split(box, verdict, first, second);
+        if (verdict != BoxVerdict::split_t) {
+          stack[top++] = second;  // at most 100 splits in u and v on a path
+        } else {
+          if (second.t0 < resume && queue.full()) {
+            const Real cut = queue.cut(box.t0);
+            if (cut > box.t0)  // else nothing was dropped
+              resume = std::min(resume, cut);
+          }
+          if (second.t0 < resume) {
+            if (!queue.full())
+              queue.push(second);
+            else
+              capped = !depth_first(s, second);
+          }
         }
-        continue;
-      }
-      capped = !depth_first(s, first, second, earliest);
-      if (capped) {
-        earliest = std::min(earliest, resume);
-        if (!queue.empty())
-          earliest = std::min(earliest, queue.earliest().t0);
+        if (!capped) {
+          box = first;
+          continue;
+        }
       }
     }
     if (capped) {
       result.status = MeshCcdStatus::max_iterations;
-      result.time_of_impact = s.found ? std::min(s.best, earliest) : earliest;
+      result.time_of_impact = s.found ? std::min(s.best, box.t0) : box.t0;
       return true;
     }
+    if (top > 0) {
+      box = stack[--top];
+      continue;
+    }
+    if (queue.empty()) {
+      if (resume >= interval.end || (s.found && s.best <= resume))
+        break;
+      queue.push({resume, interval.end, 0, 1, 0, 1, 0});
+      resume = interval.end;
+    }
+    box = queue.pop();
   }
   if (s.found) {
     result.status = MeshCcdStatus::hit;
