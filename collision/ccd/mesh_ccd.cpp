@@ -62,9 +62,10 @@ constexpr Real kMinParameterWidth = Real(1) / Real(1ull << 50);
 constexpr int kMaxCubicDepth = 10;
 constexpr int kMaxTimeIntervals = 32;
 constexpr int kStackSize = 200;  // > the deepest chain of splits (3 * 50 parameters)
-// Open boxes kept in time order (stage 2), 7 KB. The vertex-face queries of the sample and of
-// bench_ccd's sliding set keep at most 85 open; coplanar motions can keep thousands, and the
-// latest of those are dropped and searched again later (see search_interval).
+// The later halves of splits in t, kept in time order (stage 2), 7 KB. The vertex-face queries
+// of the sample keep at most 48 there, those of bench_ccd's sliding set 7; some coplanar and
+// degenerate motions fill it, and its latest boxes are then dropped and searched again later
+// (see search_interval).
 constexpr int kQueueSize = 128;
 
 struct Query {
