@@ -307,7 +307,7 @@ class BoxQueue {
     std::array<Real, kQueueSize> starts;
     for (int i = 0; i < size_; ++i)
       starts[i] = boxes_[i].t0;
-    const int k = size_ - size_ / 4;
+    const int k = size_ - std::max(1, size_ / 4);  // in [0, size_): a quarter, at least one
     std::nth_element(starts.begin(), starts.begin() + k, starts.begin() + size_);
     Real time = starts[k];
     if (time <= floor)
