@@ -201,6 +201,10 @@ TEST(Cli, CcdScoresASampleFileAndRejectsBadRows) {
     EXPECT_EQ(out["true_positives"].get<int>() + out["false_positives"].get<int>() +
                   out["true_negatives"].get<int>() + out["false_negatives"].get<int>(),
               125);
+    // The work per query: the largest is named (1-based) and bounds the median.
+    EXPECT_GE(out["most_boxes_query"].get<int>(), 1);
+    EXPECT_LE(out["most_boxes_query"].get<int>(), 125);
+    EXPECT_GE(out["boxes_max"].get<int>(), out["boxes_median"].get<int>());
   }
   const fs::path dir = scratch_dir("ccd_bad");
   const fs::path bad = dir / "bad.csv";

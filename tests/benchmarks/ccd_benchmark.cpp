@@ -3,7 +3,9 @@
 //     rotation, and on translating boxes against the time-extended SAT (same inputs);
 //   - the time-extended SAT for boxes and hulls, translating and turning, against conservative
 //     advancement on the same inputs, with the largest time difference as a counter;
-//   - vertex-face and edge-edge mesh CCD on every query of ../shared/ccd-sample-queries;
+//   - vertex-face and edge-edge mesh CCD on every query of ../shared/ccd-sample-queries, and
+//     vertex-face on 512 vertices sliding in a triangle's plane beside an edge (the hard case,
+//     tests/ccd/ccd_test_support.hpp), with the parameter boxes per query as counters;
 //   - the high-speed scene (scenes/high_speed.yaml: 2000 bodies at 250 m/s in a closed box),
 //     36 steps, tumble with CCD against Bullet 3 (btDiscreteDynamicsWorld) with its swept-sphere
 //     CCD and without it. Each run reports the bodies that left the box as the counter `escaped`.
@@ -17,6 +19,7 @@
 #include <benchmark/benchmark.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -34,6 +37,7 @@
 #include "collision/convex_hull.hpp"
 #include "engine/world.hpp"
 #include "scenes/scene_loader.hpp"
+#include "tests/ccd/ccd_test_support.hpp"
 
 namespace tumble::bench {
 namespace {
@@ -242,11 +246,30 @@ std::vector<FeatureQuery> sample_queries(const std::string& kind) {
   return out;
 }
 
+// Parameter boxes per query (deterministic work, MeshCcdResult::boxes) as counters: mean,
+// median, largest, and the queries that ran out of boxes.
+void box_counters(benchmark::State& state, const std::vector<FeatureQuery>& queries, bool vf) {
+  std::vector<std::int32_t> boxes;
+  std::int64_t total = 0, capped = 0;
+  for (const FeatureQuery& q : queries) {
+    const MeshCcdResult r = vf ? vertex_face_ccd(q.start, q.end) : edge_edge_ccd(q.start, q.end);
+    boxes.push_back(r.boxes);
+    total += r.boxes;
+    capped += r.status == MeshCcdStatus::max_iterations ? 1 : 0;
+  }
+  std::sort(boxes.begin(), boxes.end());
+  state.counters["boxes_mean"] = double(total) / double(queries.size());
+  state.counters["boxes_median"] = boxes[boxes.size() / 2];
+  state.counters["boxes_max"] = boxes.back();
+  state.counters["capped"] = double(capped);
+}
+
 // One iteration runs the whole sample (a few hard queries dominate; cycling through a prefix
 // would weigh them by chance); items are queries.
 void BM_MeshCcdSample(benchmark::State& state) {
   const bool vf = state.range(0) == 0;
   const auto queries = sample_queries(vf ? "vertex-face" : "edge-edge");
+  box_counters(state, queries, vf);
   for (auto _ : state) {
     for (const FeatureQuery& q : queries) {
       const MeshCcdResult r = vf ? vertex_face_ccd(q.start, q.end) : edge_edge_ccd(q.start, q.end);
@@ -257,6 +280,23 @@ void BM_MeshCcdSample(benchmark::State& state) {
   state.SetLabel(vf ? "vertex-face, ccd-sample-queries" : "edge-edge, ccd-sample-queries");
 }
 BENCHMARK(BM_MeshCcdSample)->ArgName("ee")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// A vertex sliding in a triangle's plane beside an edge, 1e-6 m to 1e-3 m outside it (one in
+// four crossing in): the coplanar near miss that tiled a curve of parameter boxes. The whole set
+// per iteration, as for the sample.
+void BM_MeshCcdSliding(benchmark::State& state) {
+  std::vector<FeatureQuery> queries;
+  for (const testing::SlidingQuery& s : testing::sliding_vertex_face_queries(31, 512))
+    queries.push_back({s.start, s.end});
+  box_counters(state, queries, true);
+  for (auto _ : state) {
+    for (const FeatureQuery& q : queries)
+      benchmark::DoNotOptimize(vertex_face_ccd(q.start, q.end));
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(queries.size()));
+  state.SetLabel("vertex-face, sliding beside an edge");
+}
+BENCHMARK(BM_MeshCcdSliding)->Unit(benchmark::kMillisecond);
 
 // Random features (vertices in the unit cube moving up to 0.5): the common, easy case.
 void BM_MeshCcdRandom(benchmark::State& state) {
