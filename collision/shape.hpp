@@ -1,7 +1,7 @@
 // Shapes, in their local frame with the centre of mass at the origin. Sphere, box, capsule (core
 // segment along local z), plane (the half-space z <= 0), cylinder (axis along local z), convex
 // hull (collision/convex_hull.hpp), and the static triangle mesh and compound body (added by the
-// mesh work; until then their narrow-phase entries are placeholders).
+// mesh work).
 #pragma once
 
 #include <cstdint>

@@ -120,9 +120,12 @@ class ContactSolver {
   // pushed out by the soft spring; without (the relax pass), the constraint is rigid and removes
   // the push-out velocity.
   void solve(int group, bool use_bias);
-  // Before each substep's soft passes: points that approach faster than the restitution
-  // threshold and whose gap closes within the substep bounce now, one pair at a time, in
-  // sweeps until no such point is left (each point at most once per step). Resolving impacts
+  // Before each substep's warm start and soft passes: points that approach faster than the
+  // restitution threshold and whose gap closes within the substep bounce now, one pair at a
+  // time, in sweeps until no such point is left (each point at most once per step; a point that
+  // bounces drops its accumulated normal impulse, so the warm start adds nothing to the
+  // bounce). Before the warm start, because the bounce reflects the approach it sees, and the
+  // cached impulses of other contacts may add approach the passes then take back. Resolving impacts
   // pairwise and in sequence, before the passes can spread the impact over every touching
   // body, is what lets momentum pass down a row of touching bodies (Newton's cradle); each
   // pairwise bounce with e <= 1 can only remove energy. Returns the bounces made.

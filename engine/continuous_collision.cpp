@@ -90,6 +90,8 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   radius_.resize(n);
   swept_.resize(n);
   earliest_.resize(n);
+  hit_partner_.resize(n);
+  hit_normal_.resize(n);
   motions_.resize(n);
   swept_boxes_.resize(n);
   swept_list_.reserve(n);
@@ -119,6 +121,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
   for (std::size_t i = 0; i < n; ++i) {
     swept_[i] = 0;
     earliest_[i] = 1;
+    hit_partner_[i] = -1;
     const BodyDesc& d = scene.bodies[i];
     if (d.is_static) {
       motions_[i] = RigidMotion::stationary(start[i]);
@@ -198,7 +201,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     }
     sort_and_sweep(scene, counts);
   }
-  stop_at_earliest_times(bodies, counts);
+  stop_at_earliest_times(scene, bodies, counts);
   return counts;
 }
 
@@ -225,8 +228,23 @@ void ContinuousCollision::sort_and_sweep(const Scene& scene, ContinuousCollision
   }
 }
 
-void ContinuousCollision::stop_at_earliest_times(std::vector<BodyState>& bodies,
+void ContinuousCollision::record_hit(std::int32_t body, std::int32_t partner, Real time,
+                                     const Vec3& normal) {
+  const std::size_t i = static_cast<std::size_t>(body);
+  if (time < earliest_[i] ||
+      (time == earliest_[i] && (hit_partner_[i] < 0 || partner < hit_partner_[i]))) {
+    earliest_[i] = time;
+    hit_partner_[i] = partner;
+    hit_normal_[i] = normal;
+  }
+}
+
+void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
                                                  ContinuousCollisionCounts& counts) const {
+  const auto inverse_mass = [&](std::size_t k) {
+    const BodyDesc& d = scene.bodies[k];
+    return d.is_static || !(d.mass > 0) ? Real(0) : 1 / d.mass;
+  };
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!swept_[i] || earliest_[i] >= 1)
       continue;
@@ -234,6 +252,24 @@ void ContinuousCollision::stop_at_earliest_times(std::vector<BodyState>& bodies,
     bodies[i].position = at.translation;
     bodies[i].orientation = at.rotation;
     ++counts.stopped_bodies;
+    if (hit_partner_[i] < 0)
+      continue;
+    // The impact at the stop: the approach of the centres along the normal, reflected by the
+    // restitution, by an impulse shared as the inverse masses share it.
+    const std::size_t j = static_cast<std::size_t>(hit_partner_[i]);
+    const Vec3& n = hit_normal_[i];
+    const Real approach = (bodies[i].velocity - bodies[j].velocity).dot(n);
+    const Real im_i = inverse_mass(i);
+    const Real im_j = inverse_mass(j);
+    if (!(approach < 0) || im_i + im_j == 0)
+      continue;
+    const Real restitution = -approach > scene.world.restitution_threshold
+                                 ? std::max(scene.materials[scene.bodies[i].material].restitution,
+                                            scene.materials[scene.bodies[j].material].restitution)
+                                 : Real(0);
+    const Real impulse = -(1 + restitution) * approach / (im_i + im_j);
+    bodies[i].velocity += n * (impulse * im_i);
+    bodies[j].velocity -= n * (impulse * im_j);
   }
 }
 
@@ -256,8 +292,11 @@ void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::in
   ++counts.toi_queries;
   ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
   if (r.status == ToiStatus::overlapping) {
-    const Real ta = a.shape.is_bounded() ? thickness_[ia] : thickness_[ib];
-    const Real tb = b.shape.is_bounded() ? thickness_[ib] : thickness_[ia];
+    // Planes and meshes (static only) have no thickness: the body against one sets the depth.
+    // (A mesh counted as thickness 0 once made a body resting on it be stopped step after step
+    // a hair above it, where conservative advancement crawls towards a target of zero gap.)
+    const Real ta = thickness_[ia] > 0 ? thickness_[ia] : thickness_[ib];
+    const Real tb = thickness_[ib] > 0 ? thickness_[ib] : thickness_[ia];
     const Real thinner = std::min(ta, tb);
     ToiSettings touching = apart;
     touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
@@ -270,10 +309,12 @@ void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::in
   // A capped search still gives a time up to which the motion is safe.
   if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
     return;
+  // The normal runs from B to A, and is known only for a hit (not at the iteration cap).
+  const Vec3 normal = r.status == ToiStatus::hit ? r.normal : Vec3::Zero();
   if (swept_[ia])
-    earliest_[ia] = std::min(earliest_[ia], r.time_of_impact);
+    record_hit(ia, ib, r.time_of_impact, normal);
   if (swept_[ib])
-    earliest_[ib] = std::min(earliest_[ib], r.time_of_impact);
+    record_hit(ib, ia, r.time_of_impact, -normal);
 }
 
 }  // namespace tumble

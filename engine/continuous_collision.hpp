@@ -15,12 +15,17 @@
 // their thickness in the step (thickness: sphere and capsule radius, smallest box half extent).
 //
 // How the rest of the step is kept: time stealing. The body is put at its pose at the time of
-// impact (a small gap before contact) and keeps its velocity; the rest of its motion in this
-// step is given up, and the next step's narrow phase finds the pair within the speculative
-// margin, so the solver meets the impact with the velocity the body had. Other bodies keep
-// their whole step. Sub-stepping the fast body through the rest of the step would keep the
-// time but needs the solver inside this stage; time stealing loses at most one step of a fast
-// body's motion at each impact, which is invisible at the speeds where it applies.
+// impact (a small gap before contact); the rest of its motion in this step is given up. The
+// impact itself is resolved there and then, along the normal at the time of impact: the
+// centres' approach speed is reflected by the pair's restitution (zero below the restitution
+// threshold), by an impulse shared by the inverse masses. Leaving the approach to the next
+// step's solver relies on the narrow phase finding that contact, and it keeps one manifold per
+// pair, without the points whose normal is more than 60 degrees from the deepest one's
+// (contact_collector.hpp): a body wedged between two such mesh faces, stopped there step after
+// step, would keep every m/s gravity gave it until a knock set it free. Other bodies keep their
+// whole step. Sub-stepping the fast body through the rest of the step would keep the time but
+// needs the solver inside this stage; time stealing loses at most one step of a fast body's
+// motion at each impact, which is invisible at the speeds where it applies.
 #pragma once
 
 #include <cstdint>
@@ -79,8 +84,9 @@ class ContinuousCollision {
   void test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
                  ContinuousCollisionCounts& counts);
   void sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts);
-  void stop_at_earliest_times(std::vector<BodyState>& bodies,
+  void stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
                               ContinuousCollisionCounts& counts) const;
+  void record_hit(std::int32_t body, std::int32_t partner, Real time, const Vec3& normal);
 
   bool enabled_ = false;
   PairSearch pair_search_ = PairSearch::automatic;
@@ -88,6 +94,11 @@ class ContinuousCollision {
   std::vector<Real> radius_;
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
+  // Of each swept body's earliest hit: the other body (the lower index among hits at the same
+  // time, so the choice does not depend on the order pairs are tested in; -1 for none) and the
+  // normal at that time, towards the body (zero when the search stopped at its iteration cap).
+  std::vector<std::int32_t> hit_partner_;
+  std::vector<Vec3> hit_normal_;
   std::vector<RigidMotion> motions_;      // each body's motion over the step
   std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
   std::vector<std::int32_t> swept_list_;  // swept bodies, ascending

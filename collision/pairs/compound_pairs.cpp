@@ -29,7 +29,7 @@ int compound_any(const Shape& a, const Transform& pose_a, const Shape& b, const 
                     {feature::compound_feature(int(i), p.feature.a), p.feature.b});
     }
   }
-  return collector.finish(margin, out);
+  return collector.finish(margin, ContactCollector::kMergeFraction * bounding_radius(a), out);
 }
 
 }  // namespace tumble::detail

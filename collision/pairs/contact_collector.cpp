@@ -33,7 +33,7 @@ void ContactCollector::add(const Vec3& normal, const Vec3& point_on_a, Real dept
     candidates_[shallowest] = candidate;
 }
 
-int ContactCollector::finish(Real margin, Manifold& out) const {
+int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out) const {
   out = Manifold{};
   if (count_ == 0)
     return 0;
@@ -53,6 +53,33 @@ int ContactCollector::finish(Real margin, Manifold& out) const {
     if (!(depth >= -margin))
       continue;
     points[n++] = {c.point_on_a + normal * (depth * Real(0.5)), depth, c.feature};
+  }
+  // Near-coincident points: the deepest of each cluster stays (the first of equally deep ones),
+  // the others go; the survivors keep their order.
+  if (merge_distance > 0 && n > 1) {
+    std::array<int, kCapacity> by_depth;
+    for (int i = 0; i < n; ++i)
+      by_depth[i] = i;
+    // std::sort with the index as tie-break: stable without stable_sort's heap buffer.
+    std::sort(by_depth.begin(), by_depth.begin() + n, [&](int x, int y) {
+      return points[x].depth != points[y].depth ? points[x].depth > points[y].depth : x < y;
+    });
+    std::array<bool, kCapacity> keep{};
+    const Real limit = merge_distance * merge_distance;
+    for (int k = 0; k < n; ++k) {
+      const int i = by_depth[k];
+      bool near = false;
+      for (int q = 0; q < k && !near; ++q) {
+        const int j = by_depth[q];
+        near = keep[j] && (points[i].position - points[j].position).squaredNorm() < limit;
+      }
+      keep[i] = !near;
+    }
+    int kept_count = 0;
+    for (int i = 0; i < n; ++i)
+      if (keep[i])
+        points[kept_count++] = points[i];
+    n = kept_count;
   }
   // Points whose depths differ only by rounding (a box flat on a mesh: every corner and every
   // clipped point at one depth) are equally deep; left to rounding, the "deepest" would be an

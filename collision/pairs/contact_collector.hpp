@@ -5,7 +5,10 @@
 // normal (depth times the cosine between the normals), points whose normal is more than 60
 // degrees from it are left out, and the rest are reduced to four by manifold_reduction (deepest,
 // farthest, largest area). Exact duplicates (two coplanar triangles giving the same face contact
-// at their shared edge) are kept once.
+// at their shared edge) are kept once, and of points closer together than a merge distance only
+// the deepest is kept: a corner on a mesh vertex where several triangles meet gets a contact from
+// each, a hair apart, and four such rows are one row four times over for the solver (its block
+// solve of a manifold's rows is then singular in all but one direction).
 //
 // Fixed capacity and no allocation: when full, a deeper candidate replaces the shallowest.
 #pragma once
@@ -19,12 +22,16 @@ namespace tumble::detail {
 class ContactCollector {
  public:
   static constexpr int kCapacity = 64;
+  // The merge distance the pairs use, as a fraction of the convex (or compound) shape's bounding
+  // radius: points closer than this add nothing to how the manifold holds the body up.
+  static constexpr Real kMergeFraction = Real(0.01);
 
   // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint.
   void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature);
   bool empty() const { return count_ == 0; }
-  // Writes the merged manifold (at most 4 points with depth >= -margin) and returns its count.
-  int finish(Real margin, Manifold& out) const;
+  // Writes the merged manifold (at most 4 points with depth >= -margin, no two closer than
+  // `merge_distance`) and returns its count.
+  int finish(Real margin, Real merge_distance, Manifold& out) const;
 
  private:
   struct Candidate {

@@ -65,7 +65,7 @@ int convex_mesh(const Shape& a, const Transform& pose_a, const Shape& b, const T
       collector.add(normal, point_on_a, contact.depth[i], {contact.convex_feature[i], mesh_side});
     }
   });
-  return collector.finish(margin, out);
+  return collector.finish(margin, ContactCollector::kMergeFraction * bounding_radius(a), out);
 }
 
 }  // namespace tumble::detail

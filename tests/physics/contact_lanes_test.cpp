@@ -44,8 +44,8 @@ TEST(ContactLanes, EveryInstructionSetGivesTheSameBits) {
         masses.push_back(world.mass(int(i)));
       ContactSolver solver(*versions[v]);
       solver.prepare(contacts, world.state().contacts, bodies, masses, settings);
-      solver.warm_start(bodies);
       solver.resolve_impacts(bodies);
+      solver.warm_start(bodies);
       for (int pass = 0; pass < 3; ++pass)
         solver.solve(bodies, true);
       for (BodyState& b : bodies)
