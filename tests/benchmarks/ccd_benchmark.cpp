@@ -3,7 +3,7 @@
 //     rotation, and on translating boxes against the time-extended SAT (same inputs);
 //   - the time-extended SAT for boxes and hulls, translating and turning, against conservative
 //     advancement on the same inputs, with the largest time difference as a counter;
-//   - vertex-face and edge-edge mesh CCD on every query of ../shared/ccd-sample-queries, and
+//   - vertex-face and edge-edge mesh CCD on every query of tests/data/external/ccd-sample-queries, and
 //     vertex-face on 512 vertices sliding in a triangle's plane beside an edge (the hard case,
 //     tests/ccd/ccd_test_support.hpp), with the parameter boxes per query as counters;
 //   - the high-speed scene (scenes/high_speed.yaml: 2000 bodies at 250 m/s in a closed box),
@@ -215,7 +215,7 @@ struct FeatureQuery {
 std::vector<FeatureQuery> sample_queries(const std::string& kind) {
   std::vector<FeatureQuery> out;
   const std::filesystem::path root =
-      std::filesystem::path(TUMBLE_SHARED_DIR) / "ccd-sample-queries";
+      std::filesystem::path(TUMBLE_SOURCE_DIR) / "tests/data/external/ccd-sample-queries";
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
     if (e.path().extension() == ".csv" && e.path().parent_path().filename() == kind)

@@ -1,5 +1,5 @@
 // Vertex-face and edge-edge CCD against exact ground truth:
-//   - every query of ../shared/ccd-sample-queries (handcrafted degenerate cases whose truth
+//   - every query of tests/data/external/ccd-sample-queries (handcrafted degenerate cases whose truth
 //     was computed in exact rational arithmetic): no false negative, in both triangle windings;
 //   - thousands of random queries built to touch at a chosen time (the point placed on the
 //     moving triangle, or the two segments through one point): all found, no later than that;
@@ -59,7 +59,7 @@ std::vector<SampleQuery> read_sample(const std::filesystem::path& file) {
 std::vector<std::filesystem::path> sample_files(const std::string& kind) {
   std::vector<std::filesystem::path> files;
   const std::filesystem::path root =
-      std::filesystem::path(TUMBLE_SHARED_DIR) / "ccd-sample-queries";
+      std::filesystem::path(TUMBLE_SOURCE_DIR) / "tests/data/external/ccd-sample-queries";
   for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
     if (entry.path().extension() == ".csv" && entry.path().parent_path().filename() == kind)
       files.push_back(entry.path());

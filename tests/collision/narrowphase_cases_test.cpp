@@ -1,4 +1,4 @@
-// External narrow-phase cases (shared/narrowphase-cases/cases.json: transcribed from the test
+// External narrow-phase cases (tests/data/external/narrowphase-cases/cases.json: transcribed from the test
 // suites of libccd, FCL, Coal, Jolt and Bullet, with their expected depth, distance, normal and
 // witness points). Every case whose shapes are all sphere, box, capsule, halfspace, cylinder or
 // convex hull or triangle (as a one-triangle mesh) is run; the others (cone) and queries
@@ -34,7 +34,7 @@ namespace {
 
 using json = nlohmann::json;
 
-const char* const kCasesPath = TUMBLE_SHARED_DIR "/narrowphase-cases/cases.json";
+const char* const kCasesPath = TUMBLE_SOURCE_DIR "/tests/data/external/narrowphase-cases/cases.json";
 
 // A shape of the file placed by a pose of the file (a halfspace carries its own plane frame).
 struct PlacedShape {
