@@ -10,6 +10,7 @@
 
 #include "collision/triangle_mesh.hpp"
 #include "engine/world.hpp"
+#include "tests/physics/body_builders.hpp"
 
 namespace tumble::test {
 namespace {
@@ -23,27 +24,6 @@ Scene empty_scene(Real restitution) {
   return s;
 }
 
-BodyDesc static_body(const std::string& name, const Shape& shape, const Vec3& position) {
-  BodyDesc b;
-  b.name = name;
-  b.shape = shape;
-  b.position = position;
-  b.is_static = true;
-  return b;
-}
-
-BodyDesc moving_body(const std::string& name, const Shape& shape, const Vec3& position,
-                     const Vec3& velocity) {
-  BodyDesc b;
-  b.name = name;
-  b.shape = shape;
-  b.position = position;
-  b.velocity = velocity;
-  b.mass = 2;
-  b.inertia = b.mass * unit_inertia(shape);
-  return b;
-}
-
 TEST(CcdImpact, AStoppedBodyBouncesByTheRestitution) {
   for (const Real e : {0.0, 0.5, 1.0}) {
     Scene s = empty_scene(e);
@@ -51,7 +31,7 @@ TEST(CcdImpact, AStoppedBodyBouncesByTheRestitution) {
     // with a sideways speed the frictionless wall keeps.
     s.bodies.push_back(static_body("wall", Shape::box(Vec3(0.005, 2, 2)), Vec3::Zero()));
     s.bodies.push_back(
-        moving_body("bullet", Shape::sphere(0.005), Vec3(-2, 0, 0), Vec3(600, 3, 0)));
+        dynamic_body("bullet", Shape::sphere(0.005), Vec3(-2, 0, 0), Vec3(600, 3, 0), 2));
     World world(std::make_shared<const Scene>(std::move(s)));
     world.step();
     EXPECT_EQ(world.last_step_statistics().stopped_bodies, 1) << "e = " << e;
@@ -71,11 +51,10 @@ TEST(CcdImpact, AStoppedBodyAndADynamicPartnerShareTheImpulseByMass) {
   Scene s = empty_scene(0);
   // A fast 2 kg sphere into a resting 6 kg box: a plastic impact along x leaves both at the
   // common speed 2 * 600 / 8 = 150 m/s, the momentum kept.
-  s.bodies.push_back(moving_body("bullet", Shape::sphere(0.005), Vec3(-2, 0, 0), Vec3(600, 0, 0)));
+  s.bodies.push_back(
+      dynamic_body("bullet", Shape::sphere(0.005), Vec3(-2, 0, 0), Vec3(600, 0, 0), 2));
   BodyDesc block =
-      moving_body("block", Shape::box(Vec3(0.005, 0.5, 0.5)), Vec3::Zero(), Vec3::Zero());
-  block.mass = 6;
-  block.inertia = block.mass * unit_inertia(block.shape);
+      dynamic_body("block", Shape::box(Vec3(0.005, 0.5, 0.5)), Vec3::Zero(), Vec3::Zero(), 6);
   s.bodies.push_back(block);
   World world(std::make_shared<const Scene>(std::move(s)));
   world.step();
@@ -97,7 +76,7 @@ TEST(CcdImpact, ABoxSlidingFastOverAMeshFloorIsNotStopped) {
       {{0, 1, 2}, {0, 2, 3}}));
   s.bodies.push_back(static_body("floor", Shape::triangle_mesh(floor), Vec3::Zero()));
   s.bodies.push_back(
-      moving_body("box", Shape::box(Vec3(0.5, 0.5, 0.5)), Vec3(-50, 3, 0.501), Vec3(40, 0, 0)));
+      dynamic_body("box", Shape::box(Vec3(0.5, 0.5, 0.5)), Vec3(-50, 3, 0.501), Vec3(40, 0, 0), 2));
   World world(std::make_shared<const Scene>(std::move(s)));
   std::int64_t swept = 0;
   for (int k = 0; k < 60; ++k) {

@@ -19,30 +19,19 @@
 #include "collision/compound_shape.hpp"
 #include "collision/convex_hull.hpp"
 #include "engine/world.hpp"
+#include "tests/physics/body_builders.hpp"
 #include "tests/physics/scene_fixture.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::test {
 namespace {
 
-BodyDesc dynamic_body(const Shape& shape, const Vec3& position, const Vec3& velocity) {
-  BodyDesc b;
-  b.name = "mover";
-  b.shape = shape;
-  b.position = position;
-  b.velocity = velocity;
-  b.mass = 0.01;
-  b.inertia = b.mass * unit_inertia(shape);
-  return b;
+BodyDesc fast_body(const Shape& shape, const Vec3& position, const Vec3& velocity) {
+  return dynamic_body("mover", shape, position, velocity, 0.01);
 }
 
 BodyDesc static_box(const std::string& name, const Vec3& half, const Vec3& position) {
-  BodyDesc b;
-  b.name = name;
-  b.shape = Shape::box(half);
-  b.position = position;
-  b.is_static = true;
-  return b;
+  return static_body(name, Shape::box(half), position);
 }
 
 Scene empty_scene(CcdMode ccd) {
@@ -77,7 +66,7 @@ int bullets_through_wall(CcdMode ccd, int cases, std::uint64_t seed,
     const Vec3 hit(0, 3 * unit(rng) - 1.5, 3 * unit(rng) - 1.5);
     const Vec3 start = hit - dir * (distance / dir.x());
     Scene s = empty_scene(ccd);
-    BodyDesc mover = dynamic_body(bullet, start, 1000 * dir);
+    BodyDesc mover = fast_body(bullet, start, 1000 * dir);
     if (bullet.type != ShapeType::sphere) {
       // Any orientation, tumbling.
       std::normal_distribution<Real> n(0, 1);
@@ -163,7 +152,7 @@ int rods_through_plate(CcdMode ccd, int cases, std::uint64_t seed) {
     const Quat q(Eigen::AngleAxis<Real>(M_PI / 2 + tilt, Vec3::UnitZ()));
     const Vec3 spin = Vec3(0.2 * (unit(rng) - 0.5), 0, 1).normalized() * (50 + 250 * unit(rng));
     Scene s = empty_scene(ccd);
-    BodyDesc rod = dynamic_body(Shape::box(half), Vec3(0, 0, 0), Vec3::Zero());
+    BodyDesc rod = fast_body(Shape::box(half), Vec3(0, 0, 0), Vec3::Zero());
     rod.orientation = q;
     rod.angular_velocity = spin;
     s.bodies.push_back(rod);
