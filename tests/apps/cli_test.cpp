@@ -190,7 +190,8 @@ TEST(Cli, FastBodiesAreSweptAndAConflictIsReported) {
 // file and line.
 TEST(Cli, CcdScoresASampleFileAndRejectsBadRows) {
   const std::string file =
-      std::string(TUMBLE_SOURCE_DIR) + "/tests/data/external/ccd-sample-queries/unit-tests/vertex-face/data_0_0.csv";
+      std::string(TUMBLE_SOURCE_DIR) +
+      "/tests/data/external/ccd-sample-queries/unit-tests/vertex-face/data_0_0.csv";
   for (const std::string extra : {"", " --reverse-faces"}) {
     const Result r = run_cli("ccd " + file + " --kind vf" + extra);
     ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -3,9 +3,10 @@
 //     rotation, and on translating boxes against the time-extended SAT (same inputs);
 //   - the time-extended SAT for boxes and hulls, translating and turning, against conservative
 //     advancement on the same inputs, with the largest time difference as a counter;
-//   - vertex-face and edge-edge mesh CCD on every query of tests/data/external/ccd-sample-queries, and
-//     vertex-face on 512 vertices sliding in a triangle's plane beside an edge (the hard case,
-//     tests/ccd/ccd_test_support.hpp), with the parameter boxes per query as counters;
+//   - vertex-face and edge-edge mesh CCD on every query of
+//     tests/data/external/ccd-sample-queries, and vertex-face on 512 vertices sliding in a
+//     triangle's plane beside an edge (the hard case, tests/ccd/ccd_test_support.hpp), with the
+//     parameter boxes per query as counters;
 //   - the high-speed scene (scenes/high_speed.yaml: 2000 bodies at 250 m/s in a closed box),
 //     36 steps, tumble with CCD against Bullet 3 (btDiscreteDynamicsWorld) with its swept-sphere
 //     CCD and without it. Each run reports the bodies that left the box as the counter `escaped`.

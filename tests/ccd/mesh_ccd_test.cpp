@@ -1,6 +1,7 @@
 // Vertex-face and edge-edge CCD against exact ground truth:
-//   - every query of tests/data/external/ccd-sample-queries (handcrafted degenerate cases whose truth
-//     was computed in exact rational arithmetic): no false negative, in both triangle windings;
+//   - every query of tests/data/external/ccd-sample-queries (handcrafted degenerate cases
+//     whose truth was computed in exact rational arithmetic): no false negative, in both
+//     triangle windings;
 //   - thousands of random queries built to touch at a chosen time (the point placed on the
 //     moving triangle, or the two segments through one point): all found, no later than that;
 //   - thousands of random queries that stay at least 1 mm apart (checked by dense sampling with

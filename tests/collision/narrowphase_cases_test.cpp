@@ -1,8 +1,8 @@
-// External narrow-phase cases (tests/data/external/narrowphase-cases/cases.json: transcribed from the test
-// suites of libccd, FCL, Coal, Jolt and Bullet, with their expected depth, distance, normal and
-// witness points). Every case whose shapes are all sphere, box, capsule, halfspace, cylinder or
-// convex hull or triangle (as a one-triangle mesh) is run; the others (cone) and queries
-// that are not a contact query (time of impact) are skipped and counted.
+// External narrow-phase cases (tests/data/external/narrowphase-cases/cases.json: transcribed from
+// the test suites of libccd, FCL, Coal, Jolt and Bullet, with their expected depth, distance,
+// normal and witness points). Every case whose shapes are all sphere, box, capsule, halfspace,
+// cylinder or convex hull or triangle (as a one-triangle mesh) is run; the others (cone) and
+// queries that are not a contact query (time of impact) are skipped and counted.
 //
 // The file's conventions differ from ours: its normal points from A to B (ours from B to A), its
 // boxes are given by half extents (as ours), its halfspace is {x : n.x <= offset} (ours is the
@@ -34,7 +34,8 @@ namespace {
 
 using json = nlohmann::json;
 
-const char* const kCasesPath = TUMBLE_SOURCE_DIR "/tests/data/external/narrowphase-cases/cases.json";
+const char* const kCasesPath =
+    TUMBLE_SOURCE_DIR "/tests/data/external/narrowphase-cases/cases.json";
 
 // A shape of the file placed by a pose of the file (a halfspace carries its own plane frame).
 struct PlacedShape {
