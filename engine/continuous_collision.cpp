@@ -109,7 +109,8 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
 ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
                                                    const std::vector<Transform>& start,
                                                    const BroadPhase& broad_phase,
-                                                   std::vector<BodyState>& bodies) {
+                                                   std::vector<BodyState>& bodies,
+                                                   std::span<const BodyMass> masses) {
   ContinuousCollisionCounts counts;
   const std::size_t n = bodies.size();
   const CcdMode mode = scene.world.ccd;
@@ -201,7 +202,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     }
     sort_and_sweep(scene, counts);
   }
-  stop_at_earliest_times(scene, bodies, counts);
+  stop_at_earliest_times(scene, bodies, masses, counts);
   return counts;
 }
 
@@ -240,11 +241,8 @@ void ContinuousCollision::record_hit(std::int32_t body, std::int32_t partner, Re
 }
 
 void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
+                                                 std::span<const BodyMass> masses,
                                                  ContinuousCollisionCounts& counts) const {
-  const auto inverse_mass = [&](std::size_t k) {
-    const BodyDesc& d = scene.bodies[k];
-    return d.is_static || !(d.mass > 0) ? Real(0) : 1 / d.mass;
-  };
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!swept_[i] || earliest_[i] >= 1)
       continue;
@@ -259,14 +257,15 @@ void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector
     const std::size_t j = static_cast<std::size_t>(hit_partner_[i]);
     const Vec3& n = hit_normal_[i];
     const Real approach = (bodies[i].velocity - bodies[j].velocity).dot(n);
-    const Real im_i = inverse_mass(i);
-    const Real im_j = inverse_mass(j);
+    const Real im_i = masses[i].inverse_mass;
+    const Real im_j = masses[j].inverse_mass;
     if (!(approach < 0) || im_i + im_j == 0)
       continue;
-    const Real restitution = -approach > scene.world.restitution_threshold
-                                 ? std::max(scene.materials[scene.bodies[i].material].restitution,
-                                            scene.materials[scene.bodies[j].material].restitution)
-                                 : Real(0);
+    const Real restitution =
+        -approach > scene.world.restitution_threshold
+            ? combined_restitution(scene.materials[std::size_t(scene.bodies[i].material)],
+                                   scene.materials[std::size_t(scene.bodies[j].material)])
+            : Real(0);
     const Real impulse = -(1 + restitution) * approach / (im_i + im_j);
     bodies[i].velocity += n * (impulse * im_i);
     bodies[j].velocity -= n * (impulse * im_j);

@@ -29,6 +29,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "collision/broad_phase.hpp"
@@ -66,9 +67,11 @@ class ContinuousCollision {
 
   // `start` holds each body's pose at the start of the step, `bodies` the state after the
   // position integration (changed in place for stopped bodies), `broad_phase` every body's box
-  // at the start of the step (grown by the bounds stage). Allocates nothing once warmed up.
+  // at the start of the step (grown by the bounds stage), `masses` each body's (for the impact
+  // at a stop). Allocates nothing once warmed up.
   ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
-                                const BroadPhase& broad_phase, std::vector<BodyState>& bodies);
+                                const BroadPhase& broad_phase, std::vector<BodyState>& bodies,
+                                std::span<const BodyMass> masses);
 
   // How the pairs with a swept body are found. Every way gives bit-identical results (a pair
   // whose boxes are apart can never come within the stop distance); tests compare them.
@@ -85,6 +88,7 @@ class ContinuousCollision {
                  ContinuousCollisionCounts& counts);
   void sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts);
   void stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
+                              std::span<const BodyMass> masses,
                               ContinuousCollisionCounts& counts) const;
   void record_hit(std::int32_t body, std::int32_t partner, Real time, const Vec3& normal);
 

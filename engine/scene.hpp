@@ -84,6 +84,11 @@ struct Material {
   Real damping = 1e3;    // c [N s/m]
 };
 
+// A pair's restitution: the larger of its two materials'.
+inline Real combined_restitution(const Material& a, const Material& b) {
+  return a.restitution > b.restitution ? a.restitution : b.restitution;
+}
+
 struct BodyDesc {
   std::string name;
   Shape shape;

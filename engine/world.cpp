@@ -241,7 +241,7 @@ void World::sweep_fast_bodies() {
   const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
   StageTimer timer(current_, Stage::continuous);
   const ContinuousCollisionCounts counts =
-      continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies);
+      continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies, masses_);
   current_.swept_bodies += counts.swept_bodies;
   current_.ccd_candidate_pairs += counts.candidate_pairs;
   current_.stopped_bodies += counts.stopped_bodies;
@@ -429,7 +429,7 @@ void World::collide_candidate_pairs() {
     const Material& ma = materials[a.material];
     const Material& mb = materials[b.material];
     pc.friction = std::sqrt(ma.friction * mb.friction);
-    pc.restitution = std::max(ma.restitution, mb.restitution);
+    pc.restitution = combined_restitution(ma, mb);
     // A twentieth of the smaller body's size: far below the spacing of distinct contact
     // points, far above the drift of one point between steps.
     pc.match_distance = Real(0.05) * smaller_radius(pair);

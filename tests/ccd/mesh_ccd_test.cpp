@@ -75,6 +75,12 @@ std::array<Vec3, 4> reversed(std::array<Vec3, 4> x) {
   return x;
 }
 
+// Vertex-face CCD of a query in its own winding, or with the triangle reversed.
+MeshCcdResult vertex_face_in_winding(const std::array<Vec3, 4>& start,
+                                     const std::array<Vec3, 4>& end, bool reverse) {
+  return reverse ? vertex_face_ccd(reversed(start), reversed(end)) : vertex_face_ccd(start, end);
+}
+
 struct Score {
   int queries = 0, tp = 0, fp = 0, tn = 0, fn = 0;
 };
@@ -330,9 +336,8 @@ void check_exact_contacts(bool vertex_face, std::uint64_t seed) {
       for (bool reverse : {false, true}) {
         if (reverse && !vertex_face)
           continue;
-        const MeshCcdResult r = !vertex_face ? edge_edge_ccd(c.start, c.end)
-                                : reverse    ? vertex_face_ccd(reversed(c.start), reversed(c.end))
-                                             : vertex_face_ccd(c.start, c.end);
+        const MeshCcdResult r = vertex_face ? vertex_face_in_winding(c.start, c.end, reverse)
+                                            : edge_edge_ccd(c.start, c.end);
         ASSERT_TRUE(r.hit()) << "kind " << kind << " case " << i << " reversed " << reverse;
         EXPECT_LE(r.time_of_impact, c.when) << "kind " << kind << " case " << i;
       }
@@ -445,8 +450,7 @@ TEST(MeshCcdWork, VertexSlidingBesideAnEdgeIsExcludedInAFewBoxes) {
         for (int i = 0; i < 20; ++i) {
           const SlidingQuery q = sliding_vertex_face_query(rng, gap, edge, false, turns);
           for (bool reverse : {false, true}) {
-            const MeshCcdResult r = reverse ? vertex_face_ccd(reversed(q.start), reversed(q.end))
-                                            : vertex_face_ccd(q.start, q.end);
+            const MeshCcdResult r = vertex_face_in_winding(q.start, q.end, reverse);
             EXPECT_FALSE(r.hit()) << "gap " << gap << " edge " << edge << " case " << i;
             EXPECT_LE(r.boxes, 4) << "gap " << gap << " edge " << edge << " case " << i;
           }
@@ -465,8 +469,7 @@ TEST(MeshCcdWork, VertexSlidingAcrossAnEdgeIsFoundInAFewHundredBoxes) {
       for (int i = 0; i < 20; ++i) {
         const SlidingQuery q = sliding_vertex_face_query(rng, gap, edge, true, false);
         for (bool reverse : {false, true}) {
-          const MeshCcdResult r = reverse ? vertex_face_ccd(reversed(q.start), reversed(q.end))
-                                          : vertex_face_ccd(q.start, q.end);
+          const MeshCcdResult r = vertex_face_in_winding(q.start, q.end, reverse);
           ASSERT_TRUE(r.hit()) << "gap " << gap << " edge " << edge << " case " << i;
           EXPECT_LE(r.time_of_impact, 0.5 + 1e-9);
           EXPECT_LE(r.boxes, 400) << "gap " << gap << " edge " << edge << " case " << i;
@@ -485,8 +488,7 @@ TEST(MeshCcdWork, SampleVertexFaceQueriesNeedFewBoxes) {
     int count = 0;
     for (const auto& file : sample_files("vertex-face")) {
       for (const SampleQuery& q : read_sample(file)) {
-        const MeshCcdResult r = reverse ? vertex_face_ccd(reversed(q.start), reversed(q.end))
-                                        : vertex_face_ccd(q.start, q.end);
+        const MeshCcdResult r = vertex_face_in_winding(q.start, q.end, reverse);
         EXPECT_NE(r.status, MeshCcdStatus::max_iterations) << file;
         EXPECT_LE(r.boxes, 1000) << file;
         total += r.boxes;

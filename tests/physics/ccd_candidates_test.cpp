@@ -135,10 +135,14 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
   std::vector<ProxyPair> pairs;
   broad_phase->find_pairs(pairs);  // some structures settle their boxes here
 
+  std::vector<BodyMass> masses;
+  for (const BodyDesc& d : c.scene.bodies)
+    masses.push_back(BodyMass::make(d.mass, d.inertia, d.is_static));
   ContinuousCollision every(c.scene);
   every.set_pair_search(ContinuousCollision::PairSearch::every_pair);
   std::vector<BodyState> with_every_pair = c.end;
-  const ContinuousCollisionCounts b = every.run(c.scene, c.start, *broad_phase, with_every_pair);
+  const ContinuousCollisionCounts b =
+      every.run(c.scene, c.start, *broad_phase, with_every_pair, masses);
   all_pairs += b.candidate_pairs;
   stops += b.stopped_bodies;
 
@@ -147,7 +151,8 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
     ContinuousCollision pruned(c.scene);
     pruned.set_pair_search(search);
     std::vector<BodyState> with_pruning = c.end;
-    const ContinuousCollisionCounts a = pruned.run(c.scene, c.start, *broad_phase, with_pruning);
+    const ContinuousCollisionCounts a =
+        pruned.run(c.scene, c.start, *broad_phase, with_pruning, masses);
     const char* name =
         search == ContinuousCollision::PairSearch::sort_all ? "sort_all" : "broad_phase";
     EXPECT_EQ(a.swept_bodies, b.swept_bodies) << name;
