@@ -89,16 +89,23 @@ int bench_command(const BenchOptions& options) {
   }
 
   std::ostringstream summary;
-  summary << "scene,sleeping,bodies,steps,repetitions,engine,min_ms,median_ms,max_ms,mean_ms,"
-             "ratio_median_tumble_over_bullet";
+  summary << "scene,sleeping,bodies,steps,repetitions,engine,threads,min_ms,median_ms,max_ms,"
+             "mean_ms,ratio_median_tumble_over_bullet";
   for (int k = 0; k < kStageCount; ++k)
     summary << ",tumble_" << stage_name(static_cast<Stage>(k)) << "_ms";
   for (int k = 0; k < kSolvePhaseCount; ++k)
     summary << ",tumble_solve_" << solve_phase_name(static_cast<SolvePhase>(k)) << "_ms";
   summary << ",tumble_ns_per_point_pass,tumble_ns_per_narrow_phase_pair,"
              "tumble_contact_points_per_step,tumble_max_substeps,tumble_bytes_per_body,"
-             "tumble_bytes_per_contact_point\n";
+             "tumble_bytes_per_contact_point,tumble_speedup_over_one_thread\n";
 
+  // tumble's runs at one thread count.
+  struct TumbleRuns {
+    int threads = 1;
+    std::vector<double> step_seconds;
+    StepStatistics totals;
+    WorldMemory memory;
+  };
   for (const auto& path : scenes) {
     // Each scene twice: sleeping off in both engines, then on in both (tumble's
     // world.sleeping, Bullet's default deactivation).
@@ -106,28 +113,33 @@ int bench_command(const BenchOptions& options) {
       auto scene = std::make_shared<Scene>(load_scene_file(path));
       scene->world.sleeping = sleeping;
       const std::int64_t steps = options.steps ? *options.steps : scene_steps(*scene);
-      std::vector<double> tumble_steps, bullet_steps;
-      StepStatistics totals;
-      WorldMemory memory;
+      std::vector<TumbleRuns> tumble;
+      for (const int threads : options.threads)
+        tumble.push_back(TumbleRuns{threads, {}, {}, {}});
+      std::vector<double> bullet_steps;
       std::ostringstream per_step;
-      per_step << "engine,repetition,step,seconds\n";
+      per_step << "engine,threads,repetition,step,seconds\n";
+      // Per repetition: Bullet, then tumble at each thread count, or the reverse, alternating so
+      // that neither engine always gets the warm cache.
+      const int turns = static_cast<int>(tumble.size()) + 1;
       for (int rep = 0; rep < options.repetitions; ++rep) {
-        // Alternate which engine runs first, so neither always gets the warm cache.
-        for (int turn = 0; turn < 2; ++turn) {
-          const bool tumble_turn = (turn == 0) == (rep % 2 == 0);
-          if (tumble_turn) {
+        for (int turn = 0; turn < turns; ++turn) {
+          const int slot = rep % 2 == 0 ? turn : turns - 1 - turn;  // 0 = Bullet
+          if (slot > 0) {
+            TumbleRuns& runs = tumble[std::size_t(slot - 1)];
             World world(scene);
+            world.set_threads(runs.threads);
             for (std::int64_t k = 1; k <= steps; ++k) {
               const auto t0 = Clock::now();
               world.step();
               const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-              tumble_steps.push_back(s);
-              per_step << "tumble," << rep << ',' << k << ',';
+              runs.step_seconds.push_back(s);
+              per_step << "tumble," << runs.threads << ',' << rep << ',' << k << ',';
               write_number(per_step, s);
               per_step << '\n';
-              totals.accumulate(world.last_step_statistics());
+              runs.totals.accumulate(world.last_step_statistics());
             }
-            memory = world.memory();
+            runs.memory = world.memory();
           } else if (with_bullet) {
             BulletSettings settings = bench_bullet_settings(*scene);
             settings.sleeping = sleeping;
@@ -137,76 +149,87 @@ int bench_command(const BenchOptions& options) {
               bullet.step();
               const double s = std::chrono::duration<double>(Clock::now() - t0).count();
               bullet_steps.push_back(s);
-              per_step << "bullet," << rep << ',' << k << ',';
+              per_step << "bullet,1," << rep << ',' << k << ',';
               write_number(per_step, s);
               per_step << '\n';
             }
           }
         }
       }
-      const Spread t = spread_of(tumble_steps);
       const Spread b = spread_of(bullet_steps);
-      const double ratio = with_bullet && b.median > 0 ? t.median / b.median : 0;
       const std::string name = path.stem().string();
       const std::string label = name + (sleeping ? " (sleeping on)" : " (sleeping off)");
-      const double total_steps = static_cast<double>(tumble_steps.size());
+      std::cout << label << ": " << scene->bodies.size() << " bodies, " << steps << " steps x "
+                << options.repetitions << " repetitions\n";
+      if (with_bullet) {
+        std::cout << "  Bullet step time  min " << ms(b.min) << "  median " << ms(b.median)
+                  << "  max " << ms(b.max) << " ms\n";
+      }
       const auto per = [](double seconds, double count) {
         return count > 0 ? seconds / count : 0.0;
       };
-      const double pass_seconds =
-          totals.solve_phase_seconds[static_cast<int>(SolvePhase::soft_passes)] +
-          totals.solve_phase_seconds[static_cast<int>(SolvePhase::relax_passes)];
-      const double ns_per_point_pass =
-          1e9 * per(pass_seconds, static_cast<double>(totals.point_passes));
-      const double ns_per_pair = 1e9 * per(totals.seconds[static_cast<int>(Stage::narrow_phase)],
-                                           static_cast<double>(totals.candidate_pairs));
-      const double points_per_step = per(static_cast<double>(totals.contact_points), total_steps);
-      const double bytes_per_body =
-          per(static_cast<double>(memory.body_bytes), static_cast<double>(scene->bodies.size()));
-      const double bytes_per_point =
-          per(static_cast<double>(memory.contact_bytes), points_per_step);
-      std::cout << label << ": " << scene->bodies.size() << " bodies, " << steps << " steps x "
-                << options.repetitions << " repetitions\n"
-                << "  tumble step time  min " << ms(t.min) << "  median " << ms(t.median)
-                << "  max " << ms(t.max) << " ms\n";
-      if (with_bullet) {
-        std::cout << "  Bullet step time  min " << ms(b.min) << "  median " << ms(b.median)
-                  << "  max " << ms(b.max) << " ms\n"
-                  << "  ratio tumble / Bullet (median): " << ratio << " (aim: <= 0.2)\n";
-      }
-      std::cout << "  tumble stages (mean ms per step):";
-      for (int j = 0; j < kStageCount; ++j) {
-        std::cout << ' ' << stage_name(static_cast<Stage>(j)) << ' '
-                  << ms(totals.seconds[std::size_t(j)] / total_steps);
-      }
-      std::cout << "\n  tumble solve phases (mean ms per step):";
-      for (int j = 0; j < kSolvePhaseCount; ++j) {
-        std::cout << ' ' << solve_phase_name(static_cast<SolvePhase>(j)) << ' '
-                  << ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps);
-      }
-      std::cout << "\n  tumble: " << points_per_step << " contact points per step, "
-                << ns_per_point_pass << " ns per point per pass, " << ns_per_pair
-                << " ns per narrow-phase pair, substeps up to " << totals.max_substeps << ", "
-                << bytes_per_body << " bytes per body, " << bytes_per_point
-                << " bytes per contact point\n";
-      for (int e = 0; e < (with_bullet ? 2 : 1); ++e) {
-        const Spread& sp = e == 0 ? t : b;
-        summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
-                << steps << ',' << options.repetitions << ',' << (e == 0 ? "tumble" : "bullet")
-                << ',' << ms(sp.min) << ',' << ms(sp.median) << ',' << ms(sp.max) << ','
-                << ms(sp.mean) << ',' << ratio;
-        for (int j = 0; j < kStageCount; ++j)
-          summary << ',' << (e == 0 ? ms(totals.seconds[std::size_t(j)] / total_steps) : "");
+      const double one_thread_median = spread_of(tumble.front().step_seconds).median;
+      for (const TumbleRuns& runs : tumble) {
+        const StepStatistics& totals = runs.totals;
+        const Spread t = spread_of(runs.step_seconds);
+        const double ratio = with_bullet && b.median > 0 ? t.median / b.median : 0;
+        const double speedup = per(one_thread_median, t.median);
+        const double total_steps = static_cast<double>(runs.step_seconds.size());
+        const double pass_seconds =
+            totals.solve_phase_seconds[static_cast<int>(SolvePhase::soft_passes)] +
+            totals.solve_phase_seconds[static_cast<int>(SolvePhase::relax_passes)];
+        const double ns_per_point_pass =
+            1e9 * per(pass_seconds, static_cast<double>(totals.point_passes));
+        const double ns_per_pair = 1e9 * per(totals.seconds[static_cast<int>(Stage::narrow_phase)],
+                                             static_cast<double>(totals.candidate_pairs));
+        const double points_per_step = per(static_cast<double>(totals.contact_points), total_steps);
+        const double bytes_per_body = per(static_cast<double>(runs.memory.body_bytes),
+                                          static_cast<double>(scene->bodies.size()));
+        const double bytes_per_point =
+            per(static_cast<double>(runs.memory.contact_bytes), points_per_step);
+        std::cout << "  tumble, " << runs.threads << (runs.threads == 1 ? " thread" : " threads")
+                  << ": step time  min " << ms(t.min) << "  median " << ms(t.median) << "  max "
+                  << ms(t.max) << " ms";
+        if (runs.threads != tumble.front().threads) {
+          std::cout << "  (x" << speedup << " the " << tumble.front().threads
+                    << "-thread throughput)";
+        }
+        std::cout << "\n";
+        if (with_bullet)
+          std::cout << "    ratio tumble / Bullet (median): " << ratio << " (aim: <= 0.2)\n";
+        std::cout << "    stages (mean ms per step):";
+        for (int j = 0; j < kStageCount; ++j) {
+          std::cout << ' ' << stage_name(static_cast<Stage>(j)) << ' '
+                    << ms(totals.seconds[std::size_t(j)] / total_steps);
+        }
+        std::cout << "\n    solve phases (mean ms per step):";
         for (int j = 0; j < kSolvePhaseCount; ++j) {
-          summary << ','
-                  << (e == 0 ? ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps) : "");
+          std::cout << ' ' << solve_phase_name(static_cast<SolvePhase>(j)) << ' '
+                    << ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps);
         }
-        if (e == 0) {
-          summary << ',' << ns_per_point_pass << ',' << ns_per_pair << ',' << points_per_step << ','
-                  << totals.max_substeps << ',' << bytes_per_body << ',' << bytes_per_point;
-        } else {
-          summary << ",,,,,,";
-        }
+        std::cout << "\n    " << points_per_step << " contact points per step, "
+                  << ns_per_point_pass << " ns per point per pass, " << ns_per_pair
+                  << " ns per narrow-phase pair, substeps up to " << totals.max_substeps << ", "
+                  << bytes_per_body << " bytes per body, " << bytes_per_point
+                  << " bytes per contact point\n";
+        summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
+                << steps << ',' << options.repetitions << ",tumble," << runs.threads << ','
+                << ms(t.min) << ',' << ms(t.median) << ',' << ms(t.max) << ',' << ms(t.mean) << ','
+                << ratio;
+        for (int j = 0; j < kStageCount; ++j)
+          summary << ',' << ms(totals.seconds[std::size_t(j)] / total_steps);
+        for (int j = 0; j < kSolvePhaseCount; ++j)
+          summary << ',' << ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps);
+        summary << ',' << ns_per_point_pass << ',' << ns_per_pair << ',' << points_per_step << ','
+                << totals.max_substeps << ',' << bytes_per_body << ',' << bytes_per_point << ','
+                << speedup << "\n";
+      }
+      if (with_bullet) {
+        summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
+                << steps << ',' << options.repetitions << ",bullet,1," << ms(b.min) << ','
+                << ms(b.median) << ',' << ms(b.max) << ',' << ms(b.mean) << ',';
+        for (int j = 0; j < kStageCount + kSolvePhaseCount + 7; ++j)
+          summary << ',';
         summary << "\n";
       }
       write_file_atomically(

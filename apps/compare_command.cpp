@@ -144,6 +144,8 @@ CompareResult compare_scene(const std::shared_ptr<const Scene>& scene, std::int6
 
 int compare_command(const CompareOptions& options) {
   auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  if (options.threads)
+    scene->world.threads = *options.threads;
   if (!bullet_available()) {
     std::cerr << "tumble compare: this build has no Bullet (configure with "
                  "-DTUMBLE_WITH_BULLET=ON and the bullet-float64 package); nothing to compare "

@@ -19,6 +19,7 @@ namespace tumble::app {
 enum class CompareMode { automatic, paths, statistics };
 
 struct CompareOptions {
+  std::optional<int> threads;  // overrides the scene's world.threads
   std::filesystem::path scene;
   std::filesystem::path output_dir;  // default out/<scene stem>-compare
   CompareMode mode = CompareMode::automatic;

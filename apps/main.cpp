@@ -44,6 +44,11 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd =
       app.add_subcommand("run", "Step a scene and write its trajectory and summary");
   run_cmd->add_option("scene", run.scene, "Scene file (YAML)")->required();
+  run_cmd
+      ->add_option("--threads", run.threads,
+                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "not change)")
+      ->check(CLI::Range(1, 1024));
   run_cmd->add_option("-o,--output", run.output_dir,
                       "Output directory (default out/<scene name>); gets trajectory.csv and "
                       "summary.json");
@@ -84,6 +89,11 @@ int main(int argc, char** argv) {
   CLI::App* compare_cmd = app.add_subcommand(
       "compare", "Run a scene in tumble and in Bullet side by side and write their differences");
   compare_cmd->add_option("scene", compare.scene, "Scene file (YAML)")->required();
+  compare_cmd
+      ->add_option("--threads", compare.threads,
+                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "not change)")
+      ->check(CLI::Range(1, 1024));
   compare_cmd->add_option("-o,--output", compare.output_dir,
                           "Output directory (default out/<scene name>-compare)");
   compare_cmd
@@ -109,6 +119,11 @@ int main(int argc, char** argv) {
       "Sweep time step, substeps, iterations and solver in tumble and Bullet; write "
       "error against run time (CSV, Markdown, PNG)");
   report_cmd->add_option("scene", report.scene, "Scene file (YAML)")->required();
+  report_cmd
+      ->add_option("--threads", report.threads,
+                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "not change)")
+      ->check(CLI::Range(1, 1024));
   report_cmd->add_option("-o,--output", report.output_dir,
                          "Output directory (default out/<scene name>-report)");
   report_cmd->add_option("--duration", report.duration, "Simulated time in s (default: scene)")
@@ -126,10 +141,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   bench_cmd->add_option("--steps", bench.steps, "Steps per run (overrides the scene)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+  bench_cmd
+      ->add_option("--threads", bench.threads,
+                   "tumble's thread counts, comma-separated (default 1,2; speed-ups are "
+                   "against the first)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1024));
   tumble::app::RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Simulate a scene and render it off-screen to an MP4 video and/or PNG frames");
   render_cmd->add_option("scene", render.scene, "Scene file (YAML)")->required();
+  render_cmd
+      ->add_option("--threads", render.threads,
+                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "not change)")
+      ->check(CLI::Range(1, 1024));
   render_cmd->add_option("-o,--output", render.output,
                          "Video file, H.264 MP4 (default out/<scene>/<scene>.mp4 unless "
                          "--frames is given)");

@@ -128,6 +128,8 @@ int render_command(const RenderOptions& options) {
   settings.shadows = options.shadows;
 
   auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  if (options.threads)
+    scene->world.threads = *options.threads;
   const double duration = options.duration ? *options.duration
                           : scene->world.steps
                               ? static_cast<double>(*scene->world.steps) * scene->world.dt

@@ -10,6 +10,7 @@
 namespace tumble::app {
 
 struct RenderOptions {
+  std::optional<int> threads;  // overrides the scene's world.threads
   std::filesystem::path scene;
   std::filesystem::path output;      // .mp4; empty: out/<scene>/<scene>.mp4 unless frames is set
   std::filesystem::path frames_dir;  // empty: no PNG frames

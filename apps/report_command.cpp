@@ -208,7 +208,12 @@ std::string gnuplot_quote(const std::string& s) {
 }  // namespace
 
 int report_command(const ReportOptions& options) {
-  const Scene base = load_scene_file(options.scene);
+  const Scene base = [&] {
+    Scene scene = load_scene_file(options.scene);
+    if (options.threads)
+      scene.world.threads = *options.threads;
+    return scene;
+  }();
   const bool with_bullet = bullet_available() && !options.tumble_only;
   if (!bullet_available() && !options.tumble_only) {
     std::cerr << "tumble report: this build has no Bullet (configure with "

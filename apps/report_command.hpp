@@ -12,6 +12,7 @@
 namespace tumble::app {
 
 struct ReportOptions {
+  std::optional<int> threads;  // overrides the scene's world.threads
   std::filesystem::path scene;
   std::filesystem::path output_dir;  // default out/<scene stem>-report
   std::optional<double> duration;    // s, default the scene's

@@ -38,6 +38,8 @@ std::int64_t steps_for(double duration, double dt) {
 
 int run_command(const RunOptions& options) {
   auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  if (options.threads)
+    scene->world.threads = *options.threads;
   if (options.dt)
     scene->world.dt = *options.dt;
 

@@ -8,6 +8,7 @@
 namespace tumble::app {
 
 struct RunOptions {
+  std::optional<int> threads;  // overrides the scene's world.threads
   std::filesystem::path scene;
   std::filesystem::path output_dir;  // empty: out/<scene stem>
   std::optional<std::int64_t> steps;

@@ -41,7 +41,8 @@ RunSummary::RunSummary(const Scene& scene, const World& world,
     : scene_(scene),
       scene_path_(scene_path),
       steps_(steps),
-      broad_phase_used_(world.broad_phase_type()) {
+      broad_phase_used_(world.broad_phase_type()),
+      world_threads_(world.threads()) {
   substeps_used_ =
       scene.world.solver == SolverType::penalty ? world.penalty_substeps() : scene.world.substeps;
   initial_kinetic_ = world.kinetic_energy();
@@ -75,6 +76,7 @@ std::string RunSummary::to_json() const {
                    {"substeps", w.substeps},
                    {"substeps_used", std::max(substeps_used_, totals_.max_substeps)},
                    {"sleeping", w.sleeping},
+                   {"threads", world_threads_},
                    {"solver", solver_name(w.solver)},
                    {"iterations", w.iterations},
                    {"relax_iterations", w.relax_iterations},

@@ -25,6 +25,7 @@ class RunSummary {
   std::filesystem::path scene_path_;
   std::int64_t steps_ = 0;
   BroadPhaseType broad_phase_used_;
+  int world_threads_ = 1;  // the threads the world stepped on
   // The penalty solver may raise the scene's substeps, and the impulse solver an island's: the
   // most used in any step.
   int substeps_used_ = 1;

@@ -42,7 +42,19 @@ ContactSolver::Coefficients coefficients_of(const ContactSolverSettings& setting
   return k;
 }
 
+// Work per chunk: enough that a chunk outweighs handing it to a thread (about a microsecond).
+constexpr std::int32_t kRecordsPerChunk = 64;
+constexpr std::int32_t kBundlesPerChunk = 16;
+
 }  // namespace
+
+template <class Body>
+void ContactSolver::for_chunks(std::int32_t count, std::int32_t grain, Body&& body) const {
+  if (runner_ != nullptr)
+    runner_->for_chunks(count, grain, body);
+  else if (count > 0)
+    body(std::int32_t(0), count);
+}
 
 void ContactSolver::AlignedFree::operator()(std::byte* p) const {
   ::operator delete[](p, std::align_val_t(64));
@@ -79,75 +91,81 @@ void ContactSolver::build(std::span<const PairContact> contacts,
     start_position_[i] = bodies[i].position;
     start_orientation_[i] = bodies[i].orientation;
   }
-  for (std::size_t c = 0; c < contacts.size(); ++c) {
-    const PairContact& pc = contacts[c];
-    ManifoldRecord& m = records_[c];
-    m = ManifoldRecord{};
-    const std::int32_t a = pc.body_a;
-    const std::int32_t b = pc.body_b;
-    m.body_a = a;
-    m.body_b = b;
-    m.count = pc.manifold.count;
-    m.normal = pc.manifold.normal;
-    orthonormal_basis(m.normal, m.tangent1, m.tangent2);
-    m.inv_mass_a = masses[std::size_t(a)].inverse_mass;
-    m.inv_mass_b = masses[std::size_t(b)].inverse_mass;
-    m.friction = pc.friction;
-    m.restitution = pc.restitution;
-    const BodyState& sa = bodies[std::size_t(a)];
-    const BodyState& sb = bodies[std::size_t(b)];
-    const Mat3 ra = sa.orientation.toRotationMatrix();
-    const Mat3 rb = sb.orientation.toRotationMatrix();
-    const Mat3 ia = ra * masses[std::size_t(a)].inverse_inertia * ra.transpose();
-    const Mat3 ib = rb * masses[std::size_t(b)].inverse_inertia * rb.transpose();
-    const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
-    std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
-    for (int k = 0; k < m.count; ++k) {
-      const ContactPoint& cp = pc.manifold.points[std::size_t(k)];
-      PointRecord& p = m.points[std::size_t(k)];
-      p.r_a = cp.position - sa.position;
-      p.r_b = cp.position - sb.position;
-      rn_a[std::size_t(k)] = p.r_a.cross(m.normal);
-      rn_b[std::size_t(k)] = p.r_b.cross(m.normal);
-      p.in_a = ia * rn_a[std::size_t(k)];
-      p.in_b = ib * rn_b[std::size_t(k)];
-      p.it1_a = ia * p.r_a.cross(m.tangent1);
-      p.it1_b = ib * p.r_b.cross(m.tangent1);
-      p.it2_a = ia * p.r_a.cross(m.tangent2);
-      p.it2_b = ib * p.r_b.cross(m.tangent2);
-      p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent1);
-      p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent2);
-      p.base_separation = -cp.depth;
-      p.feature = cp.feature.key();
-      p.local_a = sa.orientation.conjugate() * p.r_a;
+  for_chunks(static_cast<std::int32_t>(contacts.size()), kRecordsPerChunk,
+             [&](std::int32_t begin, std::int32_t end) {
+               for (std::int32_t c = begin; c < end; ++c)
+                 build_record(contacts[std::size_t(c)], previous, bodies, masses, dt, gravity,
+                              records_[std::size_t(c)], loads_[std::size_t(c)]);
+             });
+}
+
+void ContactSolver::build_record(const PairContact& pc, std::span<const CachedManifold> previous,
+                                 std::span<const BodyState> bodies,
+                                 std::span<const BodyMass> masses, Real dt, const Vec3& gravity,
+                                 ManifoldRecord& m, ContactLoad& load) {
+  m = ManifoldRecord{};
+  const std::int32_t a = pc.body_a;
+  const std::int32_t b = pc.body_b;
+  m.body_a = a;
+  m.body_b = b;
+  m.count = pc.manifold.count;
+  m.normal = pc.manifold.normal;
+  orthonormal_basis(m.normal, m.tangent1, m.tangent2);
+  m.inv_mass_a = masses[std::size_t(a)].inverse_mass;
+  m.inv_mass_b = masses[std::size_t(b)].inverse_mass;
+  m.friction = pc.friction;
+  m.restitution = pc.restitution;
+  const BodyState& sa = bodies[std::size_t(a)];
+  const BodyState& sb = bodies[std::size_t(b)];
+  const Mat3 ra = sa.orientation.toRotationMatrix();
+  const Mat3 rb = sb.orientation.toRotationMatrix();
+  const Mat3 ia = ra * masses[std::size_t(a)].inverse_inertia * ra.transpose();
+  const Mat3 ib = rb * masses[std::size_t(b)].inverse_inertia * rb.transpose();
+  const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
+  std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
+  for (int k = 0; k < m.count; ++k) {
+    const ContactPoint& cp = pc.manifold.points[std::size_t(k)];
+    PointRecord& p = m.points[std::size_t(k)];
+    p.r_a = cp.position - sa.position;
+    p.r_b = cp.position - sb.position;
+    rn_a[std::size_t(k)] = p.r_a.cross(m.normal);
+    rn_b[std::size_t(k)] = p.r_b.cross(m.normal);
+    p.in_a = ia * rn_a[std::size_t(k)];
+    p.in_b = ib * rn_b[std::size_t(k)];
+    p.it1_a = ia * p.r_a.cross(m.tangent1);
+    p.it1_b = ib * p.r_b.cross(m.tangent1);
+    p.it2_a = ia * p.r_a.cross(m.tangent2);
+    p.it2_b = ib * p.r_b.cross(m.tangent2);
+    p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent1);
+    p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent2);
+    p.base_separation = -cp.depth;
+    p.feature = cp.feature.key();
+    p.local_a = sa.orientation.conjugate() * p.r_a;
+  }
+  for (int i = 0; i < m.count; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      m.delassus[std::size_t(i * (i + 1) / 2 + j)] =
+          inv_mass_sum + rn_a[std::size_t(i)].dot(m.points[std::size_t(j)].in_a) +
+          rn_b[std::size_t(i)].dot(m.points[std::size_t(j)].in_b);
     }
-    for (int i = 0; i < m.count; ++i) {
-      for (int j = 0; j <= i; ++j) {
-        m.delassus[std::size_t(i * (i + 1) / 2 + j)] =
-            inv_mass_sum + rn_a[std::size_t(i)].dot(m.points[std::size_t(j)].in_a) +
-            rn_b[std::size_t(i)].dot(m.points[std::size_t(j)].in_b);
-      }
-    }
-    // The load: what the warm start says the points carried, and at least the weight of the
-    // body on top (the one the normal points up into) shared by the points, so that a heavy body
-    // on a light one is known from the first step it touches (before a soft contact has sunk
-    // under it). A light body on a heavy one loads the contact with its own weight only.
-    const Real up = gravity.squaredNorm() > 0 ? -m.normal.dot(gravity.normalized()) : Real(0);
-    const Real upper_inverse_mass = up >= 0 ? m.inv_mass_a : m.inv_mass_b;  // n from B to A
-    const Real upper = upper_inverse_mass == 0 ? Real(0) : 1 / upper_inverse_mass;
-    const Real weight_share =
-        m.count > 0 ? gravity.norm() * std::abs(up) * upper / m.count : Real(0);
-    const CachedManifold* cached = find_cached(previous, a, b);
-    if (cached != nullptr)
-      warm_start_from(*cached, pc.match_distance, m);
-    ContactLoad& load = loads_[c];
-    load = ContactLoad{};
-    for (int k = 0; k < m.count; ++k) {
-      const Real diagonal = m.delassus[std::size_t(diagonal_index(k))];
-      load.inverse_effective_mass = std::max(load.inverse_effective_mass, diagonal);
-      load.warm = std::max(load.warm, m.points[std::size_t(k)].normal_impulse / dt * diagonal);
-      load.weight = std::max(load.weight, weight_share * diagonal);
-    }
+  }
+  // The load: what the warm start says the points carried, and at least the weight of the
+  // body on top (the one the normal points up into) shared by the points, so that a heavy body
+  // on a light one is known from the first step it touches (before a soft contact has sunk
+  // under it). A light body on a heavy one loads the contact with its own weight only.
+  const Real up = gravity.squaredNorm() > 0 ? -m.normal.dot(gravity.normalized()) : Real(0);
+  const Real upper_inverse_mass = up >= 0 ? m.inv_mass_a : m.inv_mass_b;  // n from B to A
+  const Real upper = upper_inverse_mass == 0 ? Real(0) : 1 / upper_inverse_mass;
+  const Real weight_share = m.count > 0 ? gravity.norm() * std::abs(up) * upper / m.count : Real(0);
+  const CachedManifold* cached = find_cached(previous, a, b);
+  if (cached != nullptr)
+    warm_start_from(*cached, pc.match_distance, m);
+  load = ContactLoad{};
+  for (int k = 0; k < m.count; ++k) {
+    const Real diagonal = m.delassus[std::size_t(diagonal_index(k))];
+    load.inverse_effective_mass = std::max(load.inverse_effective_mass, diagonal);
+    load.warm = std::max(load.warm, m.points[std::size_t(k)].normal_impulse / dt * diagonal);
+    load.weight = std::max(load.weight, weight_share * diagonal);
   }
 }
 
@@ -236,7 +254,7 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
         }
       }
       runs_.push_back({static_cast<std::int32_t>(first) / lanes,
-                       static_cast<std::int32_t>(lane_records_.size()) / lanes});
+                       static_cast<std::int32_t>(lane_records_.size()) / lanes, run.sequential});
     }
     group.run_end = static_cast<std::int32_t>(runs_.size());
     group.bundle_end = static_cast<std::int32_t>(lane_records_.size()) / lanes;
@@ -356,25 +374,42 @@ void ContactSolver::update_separations(int group, std::span<const BodyState> bod
     r[7] = 2 * (y * z + w * x);
     r[8] = -2 * (x * x + y * y);
   }
-  kernels_->update_separations(bundles_.get(), g.bundle_begin, g.bundle_end, motions_.data());
+  // Each bundle's separations are its own.
+  for_chunks(g.bundle_end - g.bundle_begin, kBundlesPerChunk,
+             [&](std::int32_t begin, std::int32_t end) {
+               kernels_->update_separations(bundles_.get(), g.bundle_begin + begin,
+                                            g.bundle_begin + end, motions_.data());
+             });
+}
+
+// Runs `kernel` over the group's bundles a colour at a time, in colour order: the bundles of a
+// colour share no moving body, so they may run at once; the overflow's one after another. A
+// body's velocity then gathers its pairs' changes in the same order on any number of threads.
+template <class Kernel>
+void ContactSolver::for_each_colour(const Group& g, const Kernel& kernel) {
+  for (std::int32_t r = g.run_begin; r < g.run_end; ++r) {
+    const Run& run = runs_[std::size_t(r)];
+    if (run.sequential) {
+      kernel(run.begin, run.end);
+      continue;
+    }
+    for_chunks(run.end - run.begin, kBundlesPerChunk, [&](std::int32_t begin, std::int32_t end) {
+      kernel(run.begin + begin, run.begin + end);
+    });
+  }
 }
 
 void ContactSolver::warm_start(int group) {
-  const Group& g = groups_[std::size_t(group)];
-  kernels_->warm_start(bundles_.get(), g.bundle_begin, g.bundle_end, velocities_.data());
-  velocities_[0] = Velocity{};
+  for_each_colour(groups_[std::size_t(group)], [&](std::int32_t begin, std::int32_t end) {
+    kernels_->warm_start(bundles_.get(), begin, end, velocities_.data());
+  });
 }
 
 void ContactSolver::solve(int group, bool use_bias) {
-  // A colour at a time; the static slot is written by many lanes (with zero changes) and reset
-  // after each colour, so that nothing non-finite can spread through it.
   const Group& g = groups_[std::size_t(group)];
-  for (std::int32_t r = g.run_begin; r < g.run_end; ++r) {
-    const Run& run = runs_[std::size_t(r)];
-    kernels_->solve(bundles_.get(), run.begin, run.end, velocities_.data(), g.coefficients,
-                    use_bias);
-    velocities_[0] = Velocity{};
-  }
+  for_each_colour(g, [&](std::int32_t begin, std::int32_t end) {
+    kernels_->solve(bundles_.get(), begin, end, velocities_.data(), g.coefficients, use_bias);
+  });
 }
 
 int ContactSolver::resolve_impacts(int group) {

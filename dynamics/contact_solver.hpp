@@ -30,6 +30,7 @@
 #include "collision/contact.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/contact_graph.hpp"
+#include "dynamics/parallel_runner.hpp"
 #include "dynamics/rigid_body.hpp"
 
 namespace tumble {
@@ -102,6 +103,10 @@ class ContactSolver {
   void prepare(std::span<const PairContact> contacts, std::span<const CachedManifold> previous,
                std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                const ContactSolverSettings& settings);
+
+  // Threads for the passes over a colour, the separations and the build (null: this thread).
+  // Results do not depend on the runner's thread count.
+  void set_runner(const ParallelRunner* runner) { runner_ = runner; }
 
   int group_count() const { return static_cast<int>(groups_.size()); }
   int group_point_count(int group) const { return groups_[std::size_t(group)].point_count; }
@@ -211,9 +216,14 @@ class ContactSolver {
 
  private:
   static void warm_start_from(const CachedManifold& cached, Real match_distance, ManifoldRecord& m);
+  // build()'s work for one contact.
+  static void build_record(const PairContact& pc, std::span<const CachedManifold> previous,
+                           std::span<const BodyState> bodies, std::span<const BodyMass> masses,
+                           Real dt, const Vec3& gravity, ManifoldRecord& m, ContactLoad& load);
 
   struct Run {
     std::int32_t begin, end;  // bundles of one colour, or of the overflow (one pair each)
+    bool sequential;          // the overflow: its bundles share bodies
   };
   struct Group {
     ContactSolverSettings settings;
@@ -225,7 +235,15 @@ class ContactSolver {
     bool has_restitution = false;
   };
 
+  // Calls body(begin, end) over [0, count) in chunks of `grain` on the runner's threads.
+  template <class Body>
+  void for_chunks(std::int32_t count, std::int32_t grain, Body&& body) const;
+
+  template <class Kernel>
+  void for_each_colour(const Group& g, const Kernel& kernel);
+
   const detail::WideKernels* kernels_;
+  const ParallelRunner* runner_ = nullptr;
   std::vector<ManifoldRecord> records_;  // in contact (pair) order
   std::vector<ContactLoad> loads_;
   std::vector<std::int32_t> group_of_record_;

@@ -70,6 +70,9 @@ struct WorldSettings {
   bool sleeping = false;
   Real sleep_speed = Real(0.05);  // m/s
   Real sleep_time = Real(0.5);    // s
+  // Threads a step may use (`auto`, stored as 0: the machine's cores). The results are the same
+  // bits on any count (docs/architecture.md, "Threads").
+  int threads = 0;
 };
 
 // Contact material. Pairs combine friction by the geometric mean and restitution by the maximum.

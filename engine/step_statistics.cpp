@@ -61,6 +61,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   swept_bodies += o.swept_bodies;
   stopped_bodies += o.stopped_bodies;
   ccd_candidate_pairs += o.ccd_candidate_pairs;
+  split_loops += o.split_loops;
   max_substeps = std::max(max_substeps, o.max_substeps);
 }
 

@@ -48,13 +48,20 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+// Work per chunk on the runner's threads: enough that a chunk outweighs handing it over.
+constexpr std::int32_t kBodiesPerChunk = 128;
+constexpr std::int32_t kPairsPerChunk = 32;
+constexpr std::int32_t kBoxPairsPerChunk = 128;
+
 Transform pose_of(const BodyState& b) {
   return {b.position, b.orientation};
 }
 
 }  // namespace
 
-World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
+World::World(std::shared_ptr<const Scene> scene)
+    : scene_(std::move(scene)), runner_(std::make_unique<ParallelRunner>(scene_->world.threads)) {
+  solver_.set_runner(runner_.get());
   const std::size_t n = scene_->bodies.size();
   masses_.reserve(n);
   bounding_radii_.reserve(n);
@@ -97,6 +104,11 @@ World::World(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
   set_state(initial_state(*scene_));
 }
 
+void World::set_threads(int threads) {
+  runner_ = std::make_unique<ParallelRunner>(threads);
+  solver_.set_runner(runner_.get());
+}
+
 void World::set_state(const State& state) {
   state_ = state;
   // A state made by hand may leave the sleep records out: nothing sleeps then.
@@ -135,6 +147,12 @@ void World::rebuild_broad_phase() {
 // their first time of impact (engine/continuous_collision.hpp), and the impulses are kept for
 // the next step.
 void World::step() {
+  const std::int64_t split_before = runner_->split_loops();
+  runner_->run([this] { step_on_runner(); });
+  last_step_.split_loops = runner_->split_loops() - split_before;
+}
+
+void World::step_on_runner() {
   current_ = StepStatistics{};
   const WorldSettings& w = scene_->world;
   update_bounds(w.dt);
@@ -252,13 +270,15 @@ void World::sweep_fast_bodies() {
 void World::integrate_velocities(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_velocities);
   const Vec3 g = scene_->world.gravity;
-  for (std::int32_t k = group_body_start_[std::size_t(group)];
-       k < group_body_start_[std::size_t(group) + 1]; ++k) {
-    const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
-    if (state_.asleep[i] != 0)
-      continue;
-    integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
-  }
+  const std::int32_t first = group_body_start_[std::size_t(group)];
+  runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        for (std::int32_t k = first + begin; k < first + end; ++k) {
+                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
+                          if (state_.asleep[i] == 0)
+                            integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
+                        }
+                      });
 }
 
 // Each dynamic body's box grows by how far its surface can move in this step (speed, plus what
@@ -338,6 +358,7 @@ void World::collide_candidate_pairs() {
   sphere_radius_.clear();
   sphere_pairs_.clear();
   sphere_candidates_.clear();
+  other_candidates_.clear();
   const std::vector<RecyclableManifold>& kept = state_.manifolds;
   std::size_t cursor = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -370,11 +391,30 @@ void World::collide_candidate_pairs() {
       const auto first = static_cast<std::int32_t>(sphere_candidates_.size() * 2);
       sphere_pairs_.push_back({first, first + 1});
       sphere_candidates_.push_back(static_cast<std::int32_t>(i));
+    } else {
+      other_candidates_.push_back(static_cast<std::int32_t>(i));
     }
   }
   if (box_manifolds_.size() < box_queries_.size())
     box_manifolds_.resize(box_queries_.size());
-  collide_box_pairs(box_queries_, box_manifolds_);
+  // Each query's answer is its own (collide_box_pairs answers a pair as collide() does, in any
+  // batch), so the batch splits over the threads.
+  runner_->for_chunks(static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        const auto count = std::size_t(end - begin);
+                        collide_box_pairs(
+                            std::span(box_queries_).subspan(std::size_t(begin), count),
+                            std::span(box_manifolds_).subspan(std::size_t(begin), count));
+                      });
+  runner_->for_chunks(static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        for (std::int32_t k = begin; k < end; ++k) {
+                          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
+                          const ProxyPair& pair = candidate_pairs_[i];
+                          collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                                  shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+                        }
+                      });
   for (std::size_t k = 0; k < box_candidates_.size(); ++k)
     candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
   // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
@@ -412,9 +452,6 @@ void World::collide_candidate_pairs() {
       ++recycled;
       next_manifolds_.push_back(kept[std::size_t(candidate_kept_[i])]);
     } else {
-      if (!is_box_pair(pair) && !is_sphere_pair(pair))
-        collide(a.shape, shape_poses_[pair.a], b.shape, shape_poses_[pair.b], margin_of(pair),
-                manifold);
       if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
         next_manifolds_.push_back(
             make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
@@ -718,13 +755,15 @@ void World::finish_contacts() {
 
 void World::integrate_positions(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_positions);
-  for (std::int32_t k = group_body_start_[std::size_t(group)];
-       k < group_body_start_[std::size_t(group) + 1]; ++k) {
-    const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
-    if (state_.asleep[i] != 0)
-      continue;
-    integrate_position(state_.bodies[i], carries_[i], h);
-  }
+  const std::int32_t first = group_body_start_[std::size_t(group)];
+  runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        for (std::int32_t k = first + begin; k < first + end; ++k) {
+                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
+                          if (state_.asleep[i] == 0)
+                            integrate_position(state_.bodies[i], carries_[i], h);
+                        }
+                      });
 }
 
 WorldMemory World::memory() const {

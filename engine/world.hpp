@@ -12,6 +12,7 @@
 #include "collision/sphere_batch.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
+#include "dynamics/parallel_runner.hpp"
 #include "dynamics/penalty_solver.hpp"
 #include "engine/continuous_collision.hpp"
 #include "engine/islands.hpp"
@@ -50,6 +51,11 @@ class World {
 
   // Advances by scene().world.dt, in scene().world.substeps equal substeps.
   void step();
+
+  // Threads a step uses: scene().world.threads, or the machine's cores for `auto`.
+  int threads() const { return runner_->threads(); }
+  // Uses `threads` from the next step on (<= 0: the machine's cores). The results do not change.
+  void set_threads(int threads);
 
   const StepStatistics& last_step_statistics() const { return last_step_; }
   // state_hash() of the current state (computed on request, not by every step).
@@ -98,8 +104,11 @@ class World {
   void update_sleep(Real dt);
   void sweep_fast_bodies();
 
+  void step_on_runner();
+
   std::shared_ptr<const Scene> scene_;
   State state_;
+  std::unique_ptr<ParallelRunner> runner_;
 
   // Fixed per scene.
   std::vector<BodyMass> masses_;
@@ -122,8 +131,9 @@ class World {
   std::vector<SpherePair> sphere_pairs_;
   std::vector<std::int32_t> sphere_candidates_;
   std::vector<Real> sphere_out_;
-  std::vector<Manifold> candidate_manifolds_;  // per candidate pair
-  std::vector<std::int32_t> candidate_kept_;   // per candidate: its recycled entry, or -1
+  std::vector<std::int32_t> other_candidates_;  // the candidates collide() answers one by one
+  std::vector<Manifold> candidate_manifolds_;   // per candidate pair
+  std::vector<std::int32_t> candidate_kept_;    // per candidate: its recycled entry, or -1
   std::vector<RecyclableManifold> next_manifolds_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;

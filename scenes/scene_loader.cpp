@@ -146,6 +146,7 @@ constexpr RealSpec kMoment{"a positive principal moment of inertia in kg m^2", "
 constexpr RealSpec kFov{"a vertical field of view in degrees", "1 to 179", 1, 179};
 
 constexpr IntSpec kSteps{"a whole number of steps", "1 to 1e9", 1, kMaxSteps};
+constexpr IntSpec kThreads{"a whole number of threads, or auto", "1 to 1024", 1, 1024};
 constexpr IntSpec kSubsteps{"a whole number of substeps", "1 to 1000", 1, 1000};
 constexpr IntSpec kIterations{"a whole number of velocity iterations", "1 to 10000", 1, 10000};
 constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 10000", 0, 10000};
@@ -153,11 +154,12 @@ constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 1
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
 // clang-format off
-constexpr std::array<std::string_view, 22> kWorldKeys{
+constexpr std::array<std::string_view, 23> kWorldKeys{
     "gravity", "dt", "duration", "steps", "substeps", "max_substeps", "solver", "iterations",
     "relax_iterations", "broadphase", "ccd", "contact_recycling", "contact_margin",
     "penetration_slop", "contact_hertz", "sag_tolerance", "contact_damping_ratio",
-    "max_push_velocity", "restitution_threshold", "sleeping", "sleep_speed", "sleep_time"};
+    "max_push_velocity", "restitution_threshold", "sleeping", "sleep_speed", "sleep_time",
+    "threads"};
 // clang-format on
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
@@ -834,6 +836,12 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
       w.contact_hertz.reset();
     else
       w.contact_hertz = read_real(*x, path("contact_hertz"), kFrequency);
+  }
+  if (const Entry* x = f.find("threads")) {
+    if (x->value.kind == Node::Kind::scalar && x->value.scalar == "auto")
+      w.threads = 0;
+    else
+      w.threads = static_cast<int>(read_int(*x, path("threads"), kThreads));
   }
   if (const Entry* x = f.find("sag_tolerance")) {
     w.sag_tolerance = read_real(*x, path("sag_tolerance"), kSagTolerance);

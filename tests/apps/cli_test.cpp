@@ -133,6 +133,22 @@ TEST(Cli, SameSceneTwiceGivesIdenticalBytes) {
   EXPECT_EQ(sa["final_state_hash"], sb["final_state_hash"]);
 }
 
+// The thread count changes how fast a run goes, never what it writes
+// (dynamics/parallel_runner.hpp).
+TEST(Cli, ThreadCountChangesNoByteOfTheTrajectory) {
+  const fs::path one = scratch_dir("threads_1");
+  const fs::path two = scratch_dir("threads_2");
+  const std::string scene = kScenes + "demo.yaml -q --steps 200 ";
+  ASSERT_EQ(run_cli("run " + scene + "--threads 1 -o " + one.string()).exit_code, 0);
+  ASSERT_EQ(run_cli("run " + scene + "--threads 2 -o " + two.string()).exit_code, 0);
+  EXPECT_EQ(read_file(one / "trajectory.csv"), read_file(two / "trajectory.csv"));
+  const auto s1 = nlohmann::json::parse(read_file(one / "summary.json"));
+  const auto s2 = nlohmann::json::parse(read_file(two / "summary.json"));
+  EXPECT_EQ(s1["settings"]["threads"], 1);
+  EXPECT_EQ(s2["settings"]["threads"], 2);
+  EXPECT_EQ(s1["final_state_hash"], s2["final_state_hash"]);
+}
+
 TEST(Cli, DurationAndDtOverrides) {
   const fs::path dir = scratch_dir("overrides");
   ASSERT_EQ(
@@ -149,7 +165,9 @@ TEST(Cli, BadCommandLinesAreUserErrors) {
   for (const std::string& args : std::vector<std::string>{
            "run " + scene + " --dt -1", "run " + scene + " --dt nan", "run " + scene + " --dt inf",
            "run " + scene + " --steps 0", "run " + scene + " --steps 10 --duration 1",
-           "run " + scene + " --steps abc", "run", "frobnicate", "run " + scene + " --bogus"}) {
+           "run " + scene + " --steps abc", "run", "frobnicate", "run " + scene + " --bogus",
+           "run " + scene + " --threads 0", "run " + scene + " --threads two",
+           "bench " + scene + " --threads 1,0"}) {
     const Result r = run_cli(args);
     EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
     EXPECT_FALSE(r.output.empty()) << args;

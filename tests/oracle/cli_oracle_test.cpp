@@ -119,9 +119,12 @@ TEST(OracleCli, BenchWritesCsv) {
   std::string header, line;
   std::getline(csv, header);
   EXPECT_NE(header.find("tumble_solve_soft_passes_ms"), std::string::npos) << header;
-  // Sleeping off, then on, each with a tumble and a Bullet row.
-  for (const char* start : {"free_flight,off,1,5,2,tumble,", "free_flight,off,1,5,2,bullet,",
-                            "free_flight,on,1,5,2,tumble,", "free_flight,on,1,5,2,bullet,"}) {
+  EXPECT_NE(header.find(",threads,"), std::string::npos) << header;
+  EXPECT_NE(r.output.find("tumble, 2 threads"), std::string::npos) << r.output;
+  // Sleeping off, then on, each with tumble's rows at 1 and 2 threads and a Bullet row.
+  for (const char* start : {"free_flight,off,1,5,2,tumble,1,", "free_flight,off,1,5,2,tumble,2,",
+                            "free_flight,off,1,5,2,bullet,1,", "free_flight,on,1,5,2,tumble,1,",
+                            "free_flight,on,1,5,2,tumble,2,", "free_flight,on,1,5,2,bullet,1,"}) {
     std::getline(csv, line);
     EXPECT_EQ(line.rfind(start, 0), 0u) << line;
   }

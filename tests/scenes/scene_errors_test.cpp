@@ -119,6 +119,9 @@ constexpr Malformed kCases[] = {
      "expected a speed in m/s (greater than 0, at most 1e6), got 0"},
     {"negative_sleep_time.yaml", 4, "world.sleep_time",
      "expected a duration in seconds (greater than 0, at most 1e9), got -1"},
+    {"zero_threads.yaml", 3, "world.threads",
+     "expected a whole number of threads, or auto (1 to 1024), got 0"},
+    {"threads_word.yaml", 3, "world.threads", "expected a whole number of threads, or auto"},
     {"unknown_solver.yaml", 3, "world.solver", "expected one of: impulse, penalty, got pgs"},
     {"unknown_broadphase.yaml", 3, "world.broadphase",
      "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, kdtree, grid, hgrid, got "

@@ -194,6 +194,7 @@ TEST(SceneLoader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_FALSE(w.sleeping);
   EXPECT_DOUBLE_EQ(w.sleep_speed, 0.05);
   EXPECT_DOUBLE_EQ(w.sleep_time, 0.5);
+  EXPECT_EQ(w.threads, 0) << "auto: the machine's cores";
 
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].name, "default");
@@ -485,6 +486,7 @@ TEST(SceneFormatDoc, DocumentsEveryField) {
                           "sleeping",
                           "sleep_speed",
                           "sleep_time",
+                          "threads",
                           "friction",
                           "restitution",
                           "stiffness",
