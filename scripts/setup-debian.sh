@@ -8,6 +8,8 @@ packages=(
   build-essential g++ cmake ninja-build pkg-config clang-format
   # core and scene loading
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
+  # threads (dynamics/parallel_runner.hpp)
+  libtbb-dev
   # convex hulls (collision/convex_hull.cpp) and OBJ meshes (scenes/)
   libqhull-dev libtinyobjloader-dev
   # tests and benchmarks
