@@ -6,6 +6,20 @@
 namespace tumble {
 namespace {
 
+// Solves a x = b for a 3x3 matrix by its adjugate (Cramer's rule): a quarter of the work of a
+// pivoted LU, and as accurate for the Newton step below, whose matrix is the inertia plus a
+// small skew part (well conditioned whenever the inertia is). A singular matrix falls back to LU.
+Vec3 solve_3x3(const Mat3& a, const Vec3& b) {
+  const Vec3 c0 = a.col(1).cross(a.col(2));
+  const Vec3 c1 = a.col(2).cross(a.col(0));
+  const Vec3 c2 = a.col(0).cross(a.col(1));
+  const Real det = a.col(0).dot(c0);
+  if (!(std::abs(det) > std::numeric_limits<Real>::min()) || !std::isfinite(det))
+    return a.partialPivLu().solve(b);
+  // The rows of the inverse are c0, c1, c2 over det.
+  return Vec3(c0.dot(b), c1.dot(b), c2.dot(b)) / det;
+}
+
 // Newton's method on f(w2) = I (w2 - w1) + h wm x I wm. The Jacobian is
 // I + h/2 ([wm]x I - [I wm]x). Converges in 2-4 iterations for h |w| < 1; the cap keeps a
 // pathological spin bounded in time, and the result is deterministic either way.
@@ -19,7 +33,7 @@ Vec3 solve_midpoint(const Mat3& inertia, const Vec3& w1, Real h) {
     const Vec3 iwm = inertia * wm;
     const Vec3 f = inertia * (w2 - w1) + h * wm.cross(iwm);
     const Mat3 jacobian = inertia + Real(0.5) * h * (skew(wm) * inertia - skew(iwm));
-    const Vec3 step = jacobian.partialPivLu().solve(f);
+    const Vec3 step = solve_3x3(jacobian, f);
     w2 -= step;
     if (!(step.norm() > tolerance))
       break;
@@ -47,6 +61,8 @@ void integrate_velocity(BodyState& s, const BodyMass& m, const Vec3& gravity, Re
   s.velocity += h * gravity;
   if (m.is_isotropic)
     return;  // w x I w = 0: nothing to integrate
+  if (s.angular_velocity.isZero(0))
+    return;  // wm = 0: no gyroscopic change, and no carry
   const Vec3 w1 = rotate_keeping_length(s.orientation.conjugate(), s.angular_velocity);
   const Vec3 w2 = solve_midpoint(m.inertia, w1, h);
   carry.half_change_body = Real(0.5) * (w2 - w1);
