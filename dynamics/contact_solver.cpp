@@ -87,22 +87,31 @@ void ContactSolver::build(std::span<const PairContact> contacts,
   loads_.resize(contacts.size());
   start_position_.resize(bodies.size());
   start_orientation_.resize(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    start_position_[i] = bodies[i].position;
-    start_orientation_[i] = bodies[i].orientation;
-  }
+  inverse_inertia_world_.resize(bodies.size());
+  // Each body's world inverse inertia once (a body is in several pairs).
+  for_chunks(static_cast<std::int32_t>(bodies.size()), kRecordsPerChunk,
+             [&](std::int32_t begin, std::int32_t end) {
+               for (std::size_t i = std::size_t(begin); i < std::size_t(end); ++i) {
+                 start_position_[i] = bodies[i].position;
+                 start_orientation_[i] = bodies[i].orientation;
+                 const Mat3 r = bodies[i].orientation.toRotationMatrix();
+                 inverse_inertia_world_[i] = r * masses[i].inverse_inertia * r.transpose();
+               }
+             });
   for_chunks(static_cast<std::int32_t>(contacts.size()), kRecordsPerChunk,
              [&](std::int32_t begin, std::int32_t end) {
                for (std::int32_t c = begin; c < end; ++c)
-                 build_record(contacts[std::size_t(c)], previous, bodies, masses, dt, gravity,
-                              records_[std::size_t(c)], loads_[std::size_t(c)]);
+                 build_record(contacts[std::size_t(c)], previous, bodies, masses,
+                              inverse_inertia_world_, dt, gravity, records_[std::size_t(c)],
+                              loads_[std::size_t(c)]);
              });
 }
 
 void ContactSolver::build_record(const PairContact& pc, std::span<const CachedManifold> previous,
                                  std::span<const BodyState> bodies,
-                                 std::span<const BodyMass> masses, Real dt, const Vec3& gravity,
-                                 ManifoldRecord& m, ContactLoad& load) {
+                                 std::span<const BodyMass> masses,
+                                 std::span<const Mat3> inverse_inertia_world, Real dt,
+                                 const Vec3& gravity, ManifoldRecord& m, ContactLoad& load) {
   m = ManifoldRecord{};
   const std::int32_t a = pc.body_a;
   const std::int32_t b = pc.body_b;
@@ -117,10 +126,8 @@ void ContactSolver::build_record(const PairContact& pc, std::span<const CachedMa
   m.restitution = pc.restitution;
   const BodyState& sa = bodies[std::size_t(a)];
   const BodyState& sb = bodies[std::size_t(b)];
-  const Mat3 ra = sa.orientation.toRotationMatrix();
-  const Mat3 rb = sb.orientation.toRotationMatrix();
-  const Mat3 ia = ra * masses[std::size_t(a)].inverse_inertia * ra.transpose();
-  const Mat3 ib = rb * masses[std::size_t(b)].inverse_inertia * rb.transpose();
+  const Mat3& ia = inverse_inertia_world[std::size_t(a)];
+  const Mat3& ib = inverse_inertia_world[std::size_t(b)];
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
   std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
   for (int k = 0; k < m.count; ++k) {

@@ -219,7 +219,8 @@ class ContactSolver {
   // build()'s work for one contact.
   static void build_record(const PairContact& pc, std::span<const CachedManifold> previous,
                            std::span<const BodyState> bodies, std::span<const BodyMass> masses,
-                           Real dt, const Vec3& gravity, ManifoldRecord& m, ContactLoad& load);
+                           std::span<const Mat3> inverse_inertia_world, Real dt,
+                           const Vec3& gravity, ManifoldRecord& m, ContactLoad& load);
 
   struct Run {
     std::int32_t begin, end;  // bundles of one colour, or of the overflow (one pair each)
@@ -271,6 +272,7 @@ class ContactSolver {
   std::vector<Motion> motions_;
   std::vector<Vec3> start_position_;  // per body of the last build
   std::vector<Quat> start_orientation_;
+  std::vector<Mat3> inverse_inertia_world_;  // per body of the last build
   ContactGraph graph_;
   std::vector<std::int32_t> group_records_;  // scratch: one group's records in pair order
   std::vector<std::int32_t> single_group_;   // prepare(): every contact in group 0
