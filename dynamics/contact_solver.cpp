@@ -128,6 +128,8 @@ void ContactSolver::build_record(const PairContact& pc, std::span<const CachedMa
   const BodyState& sb = bodies[std::size_t(b)];
   const Mat3& ia = inverse_inertia_world[std::size_t(a)];
   const Mat3& ib = inverse_inertia_world[std::size_t(b)];
+  m.inv_inertia_a = {ia(0, 0), ia(0, 1), ia(0, 2), ia(1, 1), ia(1, 2), ia(2, 2)};
+  m.inv_inertia_b = {ib(0, 0), ib(0, 1), ib(0, 2), ib(1, 1), ib(1, 2), ib(2, 2)};
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
   std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
   for (int k = 0; k < m.count; ++k) {
@@ -139,10 +141,6 @@ void ContactSolver::build_record(const PairContact& pc, std::span<const CachedMa
     rn_b[std::size_t(k)] = p.r_b.cross(m.normal);
     p.in_a = ia * rn_a[std::size_t(k)];
     p.in_b = ib * rn_b[std::size_t(k)];
-    p.it1_a = ia * p.r_a.cross(m.tangent1);
-    p.it1_b = ib * p.r_b.cross(m.tangent1);
-    p.it2_a = ia * p.r_a.cross(m.tangent2);
-    p.it2_b = ib * p.r_b.cross(m.tangent2);
     p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent1);
     p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent2);
     p.base_separation = -cp.depth;

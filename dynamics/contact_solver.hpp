@@ -161,10 +161,8 @@ class ContactSolver {
   struct PointRecord {
     Vec3 r_a = Vec3::Zero();  // lever arms at the start of the step (world)
     Vec3 r_b = Vec3::Zero();
-    Vec3 in_a = Vec3::Zero();  // I^-1 (r x d) on A and B, per direction
+    Vec3 in_a = Vec3::Zero();  // I^-1 (r x n) on A and B, for the normal rows' matrix
     Vec3 in_b = Vec3::Zero();
-    Vec3 it1_a = Vec3::Zero(), it1_b = Vec3::Zero();
-    Vec3 it2_a = Vec3::Zero(), it2_b = Vec3::Zero();
     Real tangent_mass1 = 0, tangent_mass2 = 0;
     Real base_separation = 0;  // -depth: both anchors start at the contact point
     // Accumulated impulses: over the step after build(), per substep once packed.
@@ -184,6 +182,8 @@ class ContactSolver {
     Vec3 tangent1 = Vec3::UnitX();
     Vec3 tangent2 = Vec3::UnitY();
     Real inv_mass_a = 0, inv_mass_b = 0;
+    // World inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
+    std::array<Real, 6> inv_inertia_a{}, inv_inertia_b{};
     Real friction = 0, restitution = 0;
     // J M^-1 J^T over the normal rows, lower triangle packed row by row: (0,0), (1,0), (1,1),
     // (2,0), (2,1), (2,2), (3,0), ...
