@@ -276,7 +276,11 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
     bundles_.reset(static_cast<std::byte*>(::operator new[](capacity, std::align_val_t(64))));
     bundle_capacity_ = capacity;
   }
-  kernels_->pack(records_.data(), lane_records_.data(), bundle_count_, bundles_.get());
+  // Each bundle is filled from its own lanes' records.
+  for_chunks(bundle_count_, kBundlesPerChunk, [&](std::int32_t begin, std::int32_t end) {
+    kernels_->pack(records_.data(), lane_records_.data() + std::size_t(begin) * std::size_t(lanes),
+                   end - begin, bundles_.get() + std::size_t(begin) * kernels_->bundle_bytes);
+  });
 }
 
 void ContactSolver::prepare(std::span<const PairContact> contacts,
@@ -434,9 +438,20 @@ void ContactSolver::apply_restitution(int group) {
 }
 
 void ContactSolver::store(std::vector<CachedManifold>& cache) {
-  kernels_->unpack(bundles_.get(), lane_records_.data(), bundle_count_, records_.data());
+  const std::size_t lanes = std::size_t(kernels_->lanes);
+  for_chunks(bundle_count_, kBundlesPerChunk, [&](std::int32_t begin, std::int32_t end) {
+    kernels_->unpack(bundles_.get() + std::size_t(begin) * kernels_->bundle_bytes,
+                     lane_records_.data() + std::size_t(begin) * lanes, end - begin,
+                     records_.data());
+  });
   cache.resize(records_.size());
-  for (std::size_t i = 0; i < records_.size(); ++i) {
+  for_chunks(static_cast<std::int32_t>(records_.size()), kRecordsPerChunk,
+             [&](std::int32_t begin, std::int32_t end) { store_records(begin, end, cache); });
+}
+
+void ContactSolver::store_records(std::int32_t begin, std::int32_t end,
+                                  std::vector<CachedManifold>& cache) const {
+  for (std::size_t i = std::size_t(begin); i < std::size_t(end); ++i) {
     const ManifoldRecord& r = records_[i];
     const Real steps =
         Real(std::max(1, groups_[std::size_t(group_of_record_[i])].settings.substeps));

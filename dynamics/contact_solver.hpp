@@ -242,6 +242,9 @@ class ContactSolver {
 
   template <class Kernel>
   void for_each_colour(const Group& g, const Kernel& kernel);
+  // store()'s work for records [begin, end).
+  void store_records(std::int32_t begin, std::int32_t end,
+                     std::vector<CachedManifold>& cache) const;
 
   const detail::WideKernels* kernels_;
   const ParallelRunner* runner_ = nullptr;

@@ -110,7 +110,8 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
                                                    const std::vector<Transform>& start,
                                                    const BroadPhase& broad_phase,
                                                    std::vector<BodyState>& bodies,
-                                                   std::span<const BodyMass> masses) {
+                                                   std::span<const BodyMass> masses,
+                                                   const ParallelRunner& runner) {
   ContinuousCollisionCounts counts;
   const std::size_t n = bodies.size();
   const CcdMode mode = scene.world.ccd;
@@ -153,13 +154,13 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
                  : PairSearch::broad_phase;
   }
   entries_.clear();
+  tests_.clear();
   if (search == PairSearch::every_pair) {
     for (const std::int32_t s : swept_list_) {
       for (std::int32_t other = 0; other < static_cast<std::int32_t>(n); ++other) {
         if (other == s || (swept_[other] && other < s))
           continue;  // a pair of swept bodies once
-        ++counts.candidate_pairs;
-        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+        add_pair(std::min(s, other), std::max(s, other), counts);
       }
     }
   } else if (search == PairSearch::broad_phase) {
@@ -171,12 +172,11 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
       for (const std::int32_t other : found_) {
         if (swept_[other])
           continue;
-        ++counts.candidate_pairs;
-        test_pair(scene, std::min(s, other), std::max(s, other), counts);
+        add_pair(std::min(s, other), std::max(s, other), counts);
       }
       entries_.push_back({swept_boxes_[s], s, 1});
     }
-    sort_and_sweep(scene, counts);
+    sort_and_sweep(counts);
   } else {
     // Every bounded body's box over its own motion (a static body's box where it stands), so
     // unswept bodies need no allowance for having moved; unbounded static shapes (planes) are
@@ -195,12 +195,28 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
         for (const std::int32_t s : swept_list_) {
           if (!box.overlaps(swept_boxes_[s]))
             continue;
-          ++counts.candidate_pairs;
-          test_pair(scene, std::min(s, id), std::max(s, id), counts);
+          add_pair(std::min(s, id), std::max(s, id), counts);
         }
       }
     }
-    sort_and_sweep(scene, counts);
+    sort_and_sweep(counts);
+  }
+  // Each pair's queries on the threads; the hits then in the order the pairs were found (each
+  // body keeps its earliest, ties to the lower partner, so the order would not matter anyway).
+  constexpr std::int32_t kPairsPerChunk = 16;
+  runner.for_chunks(static_cast<std::int32_t>(tests_.size()), kPairsPerChunk,
+                    [&](std::int32_t begin, std::int32_t end) {
+                      for (std::int32_t k = begin; k < end; ++k)
+                        test_pair(scene, tests_[std::size_t(k)]);
+                    });
+  for (const PairTest& t : tests_) {
+    counts.toi_queries += t.queries;
+    if (!t.hit)
+      continue;
+    if (swept_[std::size_t(t.a)])
+      record_hit(t.a, t.b, t.time, t.normal);
+    if (swept_[std::size_t(t.b)])
+      record_hit(t.b, t.a, t.time, -t.normal);
   }
   stop_at_earliest_times(scene, bodies, masses, counts);
   return counts;
@@ -209,7 +225,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
 // Sort and sweep on x (seed 4.1.2) over entries_, testing the overlapping pairs with a swept
 // body. Ties sort by body index so the order is fixed; the times found do not depend on the order
 // anyway (each body keeps its earliest).
-void ContinuousCollision::sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts) {
+void ContinuousCollision::sort_and_sweep(ContinuousCollisionCounts& counts) {
   std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
     return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
   });
@@ -223,8 +239,7 @@ void ContinuousCollision::sort_and_sweep(const Scene& scene, ContinuousCollision
         break;
       if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
         continue;
-      ++counts.candidate_pairs;
-      test_pair(scene, std::min(e.id, f.id), std::max(e.id, f.id), counts);
+      add_pair(std::min(e.id, f.id), std::max(e.id, f.id), counts);
     }
   }
 }
@@ -277,30 +292,42 @@ void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector
 // contacts unless it would sink deeper than half the thinner body's thickness, which only a body
 // passing through does; one already deeper than that may sink by 2% of that thickness more per
 // step (the solver pushes it out meanwhile), so it cannot creep through.
-void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
-                                    ContinuousCollisionCounts& counts) {
+void ContinuousCollision::add_pair(std::int32_t ia, std::int32_t ib,
+                                   ContinuousCollisionCounts& counts) {
+  ++counts.candidate_pairs;
+  PairTest t;
+  t.a = ia;
+  t.b = ib;
+  tests_.push_back(t);
+}
+
+void ContinuousCollision::test_pair(const Scene& scene, PairTest& test) const {
+  const std::int32_t ia = test.a;
+  const std::int32_t ib = test.b;
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   ToiSettings apart;
   apart.target_distance = Real(0.25) * skin;
   apart.tolerance = Real(0.25) * skin;
   apart.max_iterations = 32;
-  const BodyDesc& a = scene.bodies[ia];
-  const BodyDesc& b = scene.bodies[ib];
-  const RigidMotion& ma = motions_[ia];
-  const RigidMotion& mb = motions_[ib];
-  ++counts.toi_queries;
+  const BodyDesc& a = scene.bodies[std::size_t(ia)];
+  const BodyDesc& b = scene.bodies[std::size_t(ib)];
+  const RigidMotion& ma = motions_[std::size_t(ia)];
+  const RigidMotion& mb = motions_[std::size_t(ib)];
+  test.queries = 1;
   ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
   if (r.status == ToiStatus::overlapping) {
     // Planes and meshes (static only) have no thickness: the body against one sets the depth.
     // (A mesh counted as thickness 0 once made a body resting on it be stopped step after step
     // a hair above it, where conservative advancement crawls towards a target of zero gap.)
-    const Real ta = thickness_[ia] > 0 ? thickness_[ia] : thickness_[ib];
-    const Real tb = thickness_[ib] > 0 ? thickness_[ib] : thickness_[ia];
+    const Real ta =
+        thickness_[std::size_t(ia)] > 0 ? thickness_[std::size_t(ia)] : thickness_[std::size_t(ib)];
+    const Real tb =
+        thickness_[std::size_t(ib)] > 0 ? thickness_[std::size_t(ib)] : thickness_[std::size_t(ia)];
     const Real thinner = std::min(ta, tb);
     ToiSettings touching = apart;
     touching.target_distance = std::min(r.distance - Real(0.02) * thinner, Real(-0.5) * thinner);
     touching.tolerance = Real(0.01) * thinner;
-    ++counts.toi_queries;
+    test.queries = 2;
     r = time_of_impact(a.shape, ma, b.shape, mb, touching);
     if (r.status == ToiStatus::overlapping)
       return;  // cannot happen but for rounding: the target is below the start
@@ -309,11 +336,9 @@ void ContinuousCollision::test_pair(const Scene& scene, std::int32_t ia, std::in
   if (r.status != ToiStatus::hit && r.status != ToiStatus::max_iterations)
     return;
   // The normal runs from B to A, and is known only for a hit (not at the iteration cap).
-  const Vec3 normal = r.status == ToiStatus::hit ? r.normal : Vec3::Zero();
-  if (swept_[ia])
-    record_hit(ia, ib, r.time_of_impact, normal);
-  if (swept_[ib])
-    record_hit(ib, ia, r.time_of_impact, -normal);
+  test.hit = true;
+  test.time = r.time_of_impact;
+  test.normal = r.status == ToiStatus::hit ? r.normal : Vec3::Zero();
 }
 
 }  // namespace tumble

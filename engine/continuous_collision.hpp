@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <span>
 #include <vector>
+#include "dynamics/parallel_runner.hpp"
 
 #include "collision/broad_phase.hpp"
 #include "collision/ccd/rigid_motion.hpp"
@@ -69,9 +70,10 @@ class ContinuousCollision {
   // position integration (changed in place for stopped bodies), `broad_phase` every body's box
   // at the start of the step (grown by the bounds stage), `masses` each body's (for the impact
   // at a stop). Allocates nothing once warmed up.
+  // The time-of-impact queries run on `runner`'s threads (the same results on any count).
   ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
                                 const BroadPhase& broad_phase, std::vector<BodyState>& bodies,
-                                std::span<const BodyMass> masses);
+                                std::span<const BodyMass> masses, const ParallelRunner& runner);
 
   // How the pairs with a swept body are found. Every way gives bit-identical results (a pair
   // whose boxes are apart can never come within the stop distance); tests compare them.
@@ -84,9 +86,18 @@ class ContinuousCollision {
   void set_pair_search(PairSearch search) { pair_search_ = search; }
 
  private:
-  void test_pair(const Scene& scene, std::int32_t ia, std::int32_t ib,
-                 ContinuousCollisionCounts& counts);
-  void sort_and_sweep(const Scene& scene, ContinuousCollisionCounts& counts);
+  // The step's pairs to test, in the order found, and what each test found: they run on the
+  // runner's threads, each writing its own result, and the hits are recorded in pair order after.
+  struct PairTest {
+    std::int32_t a = 0, b = 0;
+    Real time = 1;
+    Vec3 normal = Vec3::Zero();
+    std::int8_t queries = 0;
+    bool hit = false;
+  };
+  void add_pair(std::int32_t ia, std::int32_t ib, ContinuousCollisionCounts& counts);
+  void test_pair(const Scene& scene, PairTest& test) const;
+  void sort_and_sweep(ContinuousCollisionCounts& counts);
   void stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
                               std::span<const BodyMass> masses,
                               ContinuousCollisionCounts& counts) const;
@@ -113,6 +124,7 @@ class ContinuousCollision {
     std::uint8_t swept = 0;
   };
   std::vector<SweepEntry> entries_;  // boxes to sort and sweep
+  std::vector<PairTest> tests_;
 };
 
 }  // namespace tumble

@@ -259,7 +259,7 @@ void World::sweep_fast_bodies() {
   const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
   StageTimer timer(current_, Stage::continuous);
   const ContinuousCollisionCounts counts =
-      continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies, masses_);
+      continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies, masses_, *runner_);
   current_.swept_bodies += counts.swept_bodies;
   current_.ccd_candidate_pairs += counts.candidate_pairs;
   current_.stopped_bodies += counts.stopped_bodies;

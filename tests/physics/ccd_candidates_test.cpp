@@ -138,11 +138,14 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
   std::vector<BodyMass> masses;
   for (const BodyDesc& d : c.scene.bodies)
     masses.push_back(BodyMass::make(d.mass, d.inertia, d.is_static));
+  // The unpruned search on one thread, the pruned ones on two: the same stops either way.
+  const ParallelRunner one_thread(1);
+  const ParallelRunner two_threads(2);
   ContinuousCollision every(c.scene);
   every.set_pair_search(ContinuousCollision::PairSearch::every_pair);
   std::vector<BodyState> with_every_pair = c.end;
   const ContinuousCollisionCounts b =
-      every.run(c.scene, c.start, *broad_phase, with_every_pair, masses);
+      every.run(c.scene, c.start, *broad_phase, with_every_pair, masses, one_thread);
   all_pairs += b.candidate_pairs;
   stops += b.stopped_bodies;
 
@@ -152,7 +155,7 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
     pruned.set_pair_search(search);
     std::vector<BodyState> with_pruning = c.end;
     const ContinuousCollisionCounts a =
-        pruned.run(c.scene, c.start, *broad_phase, with_pruning, masses);
+        pruned.run(c.scene, c.start, *broad_phase, with_pruning, masses, two_threads);
     const char* name =
         search == ContinuousCollision::PairSearch::sort_all ? "sort_all" : "broad_phase";
     EXPECT_EQ(a.swept_bodies, b.swept_bodies) << name;
