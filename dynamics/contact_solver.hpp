@@ -217,7 +217,7 @@ class ContactSolver {
  private:
   static void warm_start_from(const CachedManifold& cached, Real match_distance, ManifoldRecord& m);
   // build()'s work for one contact.
-  static void build_record(const PairContact& pc, std::span<const CachedManifold> previous,
+  static void build_record(const PairContact& pc, const CachedManifold* cached,
                            std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                            std::span<const Mat3> inverse_inertia_world, Real dt,
                            const Vec3& gravity, ManifoldRecord& m, ContactLoad& load);
@@ -275,7 +275,8 @@ class ContactSolver {
   std::vector<Motion> motions_;
   std::vector<Vec3> start_position_;  // per body of the last build
   std::vector<Quat> start_orientation_;
-  std::vector<Mat3> inverse_inertia_world_;  // per body of the last build
+  std::vector<Mat3> inverse_inertia_world_;               // per body of the last build
+  std::vector<const CachedManifold*> cached_of_contact_;  // its last-step manifold, or null
   ContactGraph graph_;
   std::vector<std::int32_t> group_records_;  // scratch: one group's records in pair order
   std::vector<std::int32_t> single_group_;   // prepare(): every contact in group 0
