@@ -191,6 +191,7 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
                          std::span<const ContactSolverSettings> group_settings) {
   const std::size_t group_count = group_settings.size();
   groups_.assign(group_count, Group{});
+  pending_separations_group_ = -1;
   runs_.clear();
   lane_records_.clear();
   point_count_ = 0;
@@ -396,6 +397,16 @@ void ContactSolver::update_separations(int group, std::span<const BodyState> bod
     r[7] = 2 * (y * z + w * x);
     r[8] = -2 * (x * x + y * y);
   }
+  // The bundles' separations follow in the next pass over them (solve), or on their own when
+  // something else reads them first (apply_pending_separations).
+  pending_separations_group_ = group;
+}
+
+void ContactSolver::apply_pending_separations(int group) {
+  if (pending_separations_group_ != group)
+    return;
+  pending_separations_group_ = -1;
+  const Group& g = groups_[std::size_t(group)];
   // Each bundle's separations are its own.
   for_chunks(g.bundle_end - g.bundle_begin, kBundlesPerChunk,
              [&](std::int32_t begin, std::int32_t end) {
@@ -429,12 +440,18 @@ void ContactSolver::warm_start(int group) {
 
 void ContactSolver::solve(int group, bool use_bias) {
   const Group& g = groups_[std::size_t(group)];
+  // Separations waiting since the bodies moved are brought up to date by this pass, bundle by
+  // bundle just before each is solved.
+  const Motion* motions = pending_separations_group_ == group ? motions_.data() : nullptr;
+  pending_separations_group_ = -1;
   for_each_colour(g, [&](std::int32_t begin, std::int32_t end) {
-    kernels_->solve(bundles_.get(), begin, end, velocities_.data(), g.coefficients, use_bias);
+    kernels_->solve(bundles_.get(), begin, end, velocities_.data(), g.coefficients, use_bias,
+                    motions);
   });
 }
 
 int ContactSolver::resolve_impacts(int group) {
+  apply_pending_separations(group);
   const Group& g = groups_[std::size_t(group)];
   if (!g.has_restitution)
     return 0;

@@ -116,7 +116,8 @@ class ContactSolver {
   void load_velocities(int group, std::span<const BodyState> bodies);
   void store_velocities(int group, std::span<BodyState> bodies) const;
   // Each point's separation now, from how far its bodies moved since the start of the step
-  // (call after the positions moved).
+  // (call after the positions moved). The bodies' motions are taken now; the bundles get them in
+  // the next pass over them (solve) or before whatever else reads a separation first.
   void update_separations(int group, std::span<const BodyState> bodies);
 
   // Applies the accumulated impulses (start of every substep).
@@ -246,8 +247,11 @@ class ContactSolver {
   void store_records(std::int32_t begin, std::int32_t end,
                      std::vector<CachedManifold>& cache) const;
 
+  void apply_pending_separations(int group);
+
   const detail::WideKernels* kernels_;
   const ParallelRunner* runner_ = nullptr;
+  int pending_separations_group_ = -1;   // whose bundles wait for update_separations' motions
   std::vector<ManifoldRecord> records_;  // in contact (pair) order
   std::vector<ContactLoad> loads_;
   std::vector<std::int32_t> group_of_record_;

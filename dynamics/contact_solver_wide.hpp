@@ -21,7 +21,8 @@ struct WideKernels {
   void (*warm_start)(const std::byte* bundles, int begin, int end,
                      ContactSolver::Velocity* velocities);
   void (*solve)(std::byte* bundles, int begin, int end, ContactSolver::Velocity* velocities,
-                const ContactSolver::Coefficients& coefficients, bool use_bias);
+                const ContactSolver::Coefficients& coefficients, bool use_bias,
+                const ContactSolver::Motion* motions);
   void (*update_separations)(std::byte* bundles, int begin, int end,
                              const ContactSolver::Motion* motions);
   int (*resolve_impacts)(std::byte* bundles, int begin, int end,
