@@ -121,8 +121,8 @@ int main(int argc, char** argv) {
   report_cmd->add_option("scene", report.scene, "Scene file (YAML)")->required();
   report_cmd
       ->add_option("--threads", report.threads,
-                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
-                   "not change)")
+                   "Threads per step of tumble's runs, 1 to 1024 (default 1, so that run time "
+                   "compares with Bullet's one thread; results do not change)")
       ->check(CLI::Range(1, 1024));
   report_cmd->add_option("-o,--output", report.output_dir,
                          "Output directory (default out/<scene name>-report)");
