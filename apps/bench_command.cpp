@@ -97,7 +97,9 @@ int bench_command(const BenchOptions& options) {
     summary << ",tumble_solve_" << solve_phase_name(static_cast<SolvePhase>(k)) << "_ms";
   summary << ",tumble_ns_per_point_pass,tumble_ns_per_narrow_phase_pair,"
              "tumble_contact_points_per_step,tumble_max_substeps,tumble_bytes_per_body,"
-             "tumble_bytes_per_contact_point,tumble_speedup_over_one_thread\n";
+             "tumble_bytes_per_contact_point,tumble_speedup_over_one_thread,"
+             "tumble_recycled_pair_share,tumble_ns_per_recycled_pair,"
+             "tumble_ns_per_recomputed_pair\n";
 
   // tumble's runs at one thread count.
   struct TumbleRuns {
@@ -183,6 +185,13 @@ int bench_command(const BenchOptions& options) {
         const double ns_per_pair = 1e9 * per(totals.seconds[static_cast<int>(Stage::narrow_phase)],
                                              static_cast<double>(totals.candidate_pairs));
         const double points_per_step = per(static_cast<double>(totals.contact_points), total_steps);
+        const double recycled_share =
+            per(static_cast<double>(totals.recycled_pairs),
+                static_cast<double>(totals.recycled_pairs + totals.recomputed_pairs));
+        const double ns_per_recycled =
+            1e9 * per(totals.recycle_seconds, static_cast<double>(totals.recycled_pairs));
+        const double ns_per_recomputed =
+            1e9 * per(totals.recompute_seconds, static_cast<double>(totals.recomputed_pairs));
         const double bytes_per_body = per(static_cast<double>(runs.memory.body_bytes),
                                           static_cast<double>(scene->bodies.size()));
         const double bytes_per_point =
@@ -211,7 +220,10 @@ int bench_command(const BenchOptions& options) {
                   << ns_per_point_pass << " ns per point per pass, " << ns_per_pair
                   << " ns per narrow-phase pair, substeps up to " << totals.max_substeps << ", "
                   << bytes_per_body << " bytes per body, " << bytes_per_point
-                  << " bytes per contact point\n";
+                  << " bytes per contact point\n    narrow phase: " << 100 * recycled_share
+                  << "% of pairs recycled, " << ns_per_recycled << " ns per recycled pair (with "
+                  << "sorting the candidates), " << ns_per_recomputed
+                  << " ns per recomputed pair\n";
         summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
                 << steps << ',' << options.repetitions << ",tumble," << runs.threads << ','
                 << ms(t.min) << ',' << ms(t.median) << ',' << ms(t.max) << ',' << ms(t.mean) << ','
@@ -222,13 +234,14 @@ int bench_command(const BenchOptions& options) {
           summary << ',' << ms(totals.solve_phase_seconds[std::size_t(j)] / total_steps);
         summary << ',' << ns_per_point_pass << ',' << ns_per_pair << ',' << points_per_step << ','
                 << totals.max_substeps << ',' << bytes_per_body << ',' << bytes_per_point << ','
-                << speedup << "\n";
+                << speedup << ',' << recycled_share << ',' << ns_per_recycled << ','
+                << ns_per_recomputed << "\n";
       }
       if (with_bullet) {
         summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','
                 << steps << ',' << options.repetitions << ",bullet,1," << ms(b.min) << ','
                 << ms(b.median) << ',' << ms(b.max) << ',' << ms(b.mean) << ',';
-        for (int j = 0; j < kStageCount + kSolvePhaseCount + 7; ++j)
+        for (int j = 0; j < kStageCount + kSolvePhaseCount + 10; ++j)
           summary << ',';
         summary << "\n";
       }

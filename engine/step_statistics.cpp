@@ -55,6 +55,8 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   recycled_pairs += o.recycled_pairs;
   recomputed_pairs += o.recomputed_pairs;
+  recycle_seconds += o.recycle_seconds;
+  recompute_seconds += o.recompute_seconds;
   contact_points += o.contact_points;
   solver_iterations += o.solver_iterations;
   point_passes += o.point_passes;

@@ -43,6 +43,10 @@ struct StepStatistics {
   std::int64_t touching_pairs = 0;                             // pairs with a manifold
   std::int64_t recycled_pairs = 0;    // candidate pairs that reused their kept manifold
   std::int64_t recomputed_pairs = 0;  // candidate pairs collided afresh
+  // Of the narrow phase's time: sorting the candidates while recycling the kept manifolds, and
+  // the queries of the pairs collided afresh [s].
+  double recycle_seconds = 0;
+  double recompute_seconds = 0;
   std::int64_t contact_points = 0;
   std::int64_t solver_iterations = 0;
   std::int64_t point_passes = 0;         // contact points times the soft and relax passes over them

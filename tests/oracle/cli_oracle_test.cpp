@@ -3,6 +3,8 @@
 // against the analytic parabola, bench writes its CSV.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
@@ -120,6 +122,11 @@ TEST(OracleCli, BenchWritesCsv) {
   std::getline(csv, header);
   EXPECT_NE(header.find("tumble_solve_soft_passes_ms"), std::string::npos) << header;
   EXPECT_NE(header.find(",threads,"), std::string::npos) << header;
+  EXPECT_NE(header.find("tumble_ns_per_recomputed_pair"), std::string::npos) << header;
+  EXPECT_NE(r.output.find("ns per recycled pair"), std::string::npos) << r.output;
+  const auto fields = [](const std::string& row) {
+    return std::count(row.begin(), row.end(), ',') + 1;
+  };
   EXPECT_NE(r.output.find("tumble, 2 threads"), std::string::npos) << r.output;
   // Sleeping off, then on, each with tumble's rows at 1 and 2 threads and a Bullet row.
   for (const char* start : {"free_flight,off,1,5,2,tumble,1,", "free_flight,off,1,5,2,tumble,2,",
@@ -127,6 +134,7 @@ TEST(OracleCli, BenchWritesCsv) {
                             "free_flight,on,1,5,2,tumble,2,", "free_flight,on,1,5,2,bullet,1,"}) {
     std::getline(csv, line);
     EXPECT_EQ(line.rfind(start, 0), 0u) << line;
+    EXPECT_EQ(fields(line), fields(header)) << line;
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "free_flight_steps.csv"));
   EXPECT_TRUE(std::filesystem::exists(dir / "free_flight_sleeping_steps.csv"));
