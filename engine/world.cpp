@@ -270,13 +270,22 @@ void World::sweep_fast_bodies() {
 void World::integrate_velocities(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_velocities);
   const Vec3 g = scene_->world.gravity;
+  for_each_awake_body(group, [&](std::size_t i) {
+    integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
+  });
+}
+
+// Calls update(i) for every awake body i of substep group `group`, in chunks on the runner's
+// threads (each call touches body i alone).
+template <class Update>
+void World::for_each_awake_body(int group, const Update& update) {
   const std::int32_t first = group_body_start_[std::size_t(group)];
   runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
                         for (std::int32_t k = first + begin; k < first + end; ++k) {
                           const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
                           if (state_.asleep[i] == 0)
-                            integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
+                            update(i);
                         }
                       });
 }
@@ -762,15 +771,8 @@ void World::finish_contacts() {
 
 void World::integrate_positions(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_positions);
-  const std::int32_t first = group_body_start_[std::size_t(group)];
-  runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
-                      [&](std::int32_t begin, std::int32_t end) {
-                        for (std::int32_t k = first + begin; k < first + end; ++k) {
-                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
-                          if (state_.asleep[i] == 0)
-                            integrate_position(state_.bodies[i], carries_[i], h);
-                        }
-                      });
+  for_each_awake_body(group,
+                      [&](std::size_t i) { integrate_position(state_.bodies[i], carries_[i], h); });
 }
 
 WorldMemory World::memory() const {

@@ -105,6 +105,8 @@ class World {
   void sweep_fast_bodies();
 
   void step_on_runner();
+  template <class Update>
+  void for_each_awake_body(int group, const Update& update);
 
   std::shared_ptr<const Scene> scene_;
   State state_;
