@@ -121,6 +121,8 @@ std::string RunSummary::to_json() const {
                     {"touching_pairs", totals_.touching_pairs},
                     {"recycled_pairs", totals_.recycled_pairs},
                     {"recomputed_pairs", totals_.recomputed_pairs},
+                    {"axis_cache_tries", totals_.axis_cache_tries},
+                    {"axis_cache_hits", totals_.axis_cache_hits},
                     {"contact_points", totals_.contact_points},
                     {"max_contact_points_in_a_step", max_contact_points_},
                     {"solver_iterations", totals_.solver_iterations},

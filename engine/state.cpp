@@ -92,6 +92,12 @@ std::uint64_t state_hash(const State& state) {
       h.add_u64(m.feature[std::size_t(k)].key());
     }
   }
+  h.add_u64(state.box_axes.size());
+  for (const CachedBoxAxis& c : state.box_axes) {
+    h.add_u64(static_cast<std::uint64_t>(c.body_a));
+    h.add_u64(static_cast<std::uint64_t>(c.body_b));
+    h.add_u64(c.axis);
+  }
   h.add_u64(state.asleep.size());
   for (std::size_t i = 0; i < state.asleep.size(); ++i) {
     h.add_u64(state.asleep[i]);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collision/box_axis_cache.hpp"
 #include "collision/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
@@ -20,6 +21,9 @@ struct State {
   // The touching pairs' manifolds in their bodies' frames, for contact recycling (sorted by
   // pair; collision/manifold_recycling.hpp).
   std::vector<RecyclableManifold> manifolds;
+  // The box pairs that were apart last step with the axis that separated them, sorted by pair
+  // (collision/box_axis_cache.hpp).
+  std::vector<CachedBoxAxis> box_axes;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
   std::vector<Real> slow_time;

@@ -55,6 +55,8 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   recycled_pairs += o.recycled_pairs;
   recomputed_pairs += o.recomputed_pairs;
+  axis_cache_tries += o.axis_cache_tries;
+  axis_cache_hits += o.axis_cache_hits;
   recycle_seconds += o.recycle_seconds;
   recompute_seconds += o.recompute_seconds;
   contact_points += o.contact_points;

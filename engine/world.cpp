@@ -7,6 +7,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "collision/box_axis_cache.hpp"
 #include "collision/broad_phase_factory.hpp"
 #include "collision/manifold_recycling.hpp"
 #include "collision/narrow_phase.hpp"
@@ -128,6 +129,8 @@ void World::teleport(int body, const Vec3& position, const Quat& orientation) {
   std::erase_if(state_.manifolds, [body](const RecyclableManifold& m) {
     return m.body_a == body || m.body_b == body;
   });
+  std::erase_if(state_.box_axes,
+                [body](const CachedBoxAxis& c) { return c.body_a == body || c.body_b == body; });
   rebuild_broad_phase();
 }
 
@@ -362,6 +365,7 @@ void World::collide_candidate_pairs() {
   const std::size_t n = candidate_pairs_.size();
   candidate_manifolds_.resize(n);
   candidate_kept_.assign(n, -1);
+  candidate_axis_.assign(n, kNoBoxAxis);
   box_queries_.clear();
   box_candidates_.clear();
   sphere_x_.clear();
@@ -372,7 +376,10 @@ void World::collide_candidate_pairs() {
   sphere_candidates_.clear();
   other_candidates_.clear();
   const std::vector<RecyclableManifold>& kept = state_.manifolds;
+  const std::vector<CachedBoxAxis>& axes = state_.box_axes;
   std::size_t cursor = 0;
+  std::size_t axis_cursor = 0;
+  std::int64_t axis_tries = 0, axis_hits = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
     // Both lists are sorted by pair: walk them together.
@@ -388,6 +395,25 @@ void World::collide_candidate_pairs() {
       continue;
     }
     if (is_box_pair(pair)) {
+      // The axis that kept the boxes apart last step, if it still does: no contact, and no
+      // query (collision/box_axis_cache.hpp).
+      while (axis_cursor < axes.size() &&
+             std::pair{axes[axis_cursor].body_a, axes[axis_cursor].body_b} <
+                 std::pair{pair.a, pair.b})
+        ++axis_cursor;
+      if (axis_cursor < axes.size() && axes[axis_cursor].body_a == pair.a &&
+          axes[axis_cursor].body_b == pair.b) {
+        ++axis_tries;
+        const std::uint8_t axis = axes[axis_cursor].axis;
+        if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
+                               bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
+                               margin_of(pair))) {
+          ++axis_hits;
+          candidate_axis_[i] = axis;
+          candidate_manifolds_[i].count = 0;
+          continue;
+        }
+      }
       box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
                               bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
                               margin_of(pair)});
@@ -410,15 +436,24 @@ void World::collide_candidate_pairs() {
   const auto query_start = std::chrono::steady_clock::now();
   if (box_manifolds_.size() < box_queries_.size())
     box_manifolds_.resize(box_queries_.size());
+  box_axes_found_.resize(box_queries_.size());
   // Each query's answer is its own (collide_box_pairs answers a pair as collide() does, in any
   // batch), so the batch splits over the threads.
-  runner_->for_chunks(static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
-                      [&](std::int32_t begin, std::int32_t end) {
-                        const auto count = std::size_t(end - begin);
-                        collide_box_pairs(
-                            std::span(box_queries_).subspan(std::size_t(begin), count),
-                            std::span(box_manifolds_).subspan(std::size_t(begin), count));
-                      });
+  runner_->for_chunks(
+      static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
+      [&](std::int32_t begin, std::int32_t end) {
+        const auto count = std::size_t(end - begin);
+        collide_box_pairs(std::span(box_queries_).subspan(std::size_t(begin), count),
+                          std::span(box_manifolds_).subspan(std::size_t(begin), count));
+        // The pairs found apart keep the axis that separates them most.
+        for (std::size_t k = std::size_t(begin); k < std::size_t(end); ++k) {
+          const BoxPairQuery& q = box_queries_[k];
+          box_axes_found_[k] =
+              box_manifolds_[k].count == 0
+                  ? best_separating_box_axis(q.half_a, q.pose_a, q.half_b, q.pose_b, q.margin)
+                  : kNoBoxAxis;
+        }
+      });
   runner_->for_chunks(static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
                         for (std::int32_t k = begin; k < end; ++k) {
@@ -428,8 +463,10 @@ void World::collide_candidate_pairs() {
                                   shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
                         }
                       });
-  for (std::size_t k = 0; k < box_candidates_.size(); ++k)
+  for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
     candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
+    candidate_axis_[std::size_t(box_candidates_[k])] = box_axes_found_[k];
+  }
   // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
   // keeps its own margin.
   if (!sphere_pairs_.empty()) {
@@ -458,9 +495,12 @@ void World::collide_candidate_pairs() {
   current_.recycle_seconds += std::chrono::duration<double>(query_start - sort_start).count();
   current_.recompute_seconds += std::chrono::duration<double>(query_end - query_start).count();
   next_manifolds_.clear();
+  next_box_axes_.clear();
   std::int64_t recycled = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
+    if (candidate_axis_[i] != kNoBoxAxis)
+      next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     Manifold& manifold = candidate_manifolds_[i];
@@ -493,6 +533,9 @@ void World::collide_candidate_pairs() {
         PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
   }
   state_.manifolds.swap(next_manifolds_);
+  state_.box_axes.swap(next_box_axes_);
+  current_.axis_cache_tries += axis_tries;
+  current_.axis_cache_hits += axis_hits;
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
   current_.recycled_pairs += recycled;
   current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled;

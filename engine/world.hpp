@@ -137,6 +137,9 @@ class World {
   std::vector<Manifold> candidate_manifolds_;   // per candidate pair
   std::vector<std::int32_t> candidate_kept_;    // per candidate: its recycled entry, or -1
   std::vector<RecyclableManifold> next_manifolds_;
+  std::vector<std::uint8_t> candidate_axis_;  // per candidate: the axis that separated it
+  std::vector<std::uint8_t> box_axes_found_;  // per box query: the axis that separated it
+  std::vector<CachedBoxAxis> next_box_axes_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
   // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's

@@ -53,6 +53,9 @@ constexpr Real kMinCrossSine = Real(1e-6);
 // A separating axis "realises" the distance of boxes that are apart when its separation is within
 // this fraction of the pair's size of the exact distance.
 constexpr Real kRealisesDistanceTolerance = Real(1e-9);
+// closest_features skips an edge pair whose bounding spheres are farther apart than the closest
+// distance found by more than this share of the pair's size.
+constexpr Real kCullBand = Real(1e-9);
 
 // The pair seen from A's frame (Gottschalk et al. 1996, section 5): B's axes are the columns of r,
 // B's centre is t.
@@ -484,18 +487,31 @@ ClosestFeatures closest_features(const Box& a, const Box& b) {
   ClosestFeatures best;
   closest_corner_to_box(a, b, true, best);
   closest_corner_to_box(b, a, false, best);
+  const Real scale = a.half.norm() + b.half.norm() + (a.centre - b.centre).norm();
+  // Each corner once (the edge loops visit every corner of B 18 times).
+  std::array<Vec3, 8> corners_a, corners_b;
+  for (int v = 0; v < 8; ++v) {
+    corners_a[std::size_t(v)] = a.corner(v);
+    corners_b[std::size_t(v)] = b.corner(v);
+  }
   for (int i = 0; i < 3; ++i) {
     for (int bits_a = 0; bits_a < 8; ++bits_a) {
       if ((bits_a >> i) & 1)
         continue;  // each edge once, from its negative end
-      const Vec3 a_start = a.corner(bits_a);
-      const Vec3 a_end = a.corner(bits_a | 1 << i);
+      const Vec3& a_start = corners_a[std::size_t(bits_a)];
+      const Vec3& a_end = corners_a[std::size_t(bits_a | 1 << i)];
       for (int j = 0; j < 3; ++j) {
         for (int bits_b = 0; bits_b < 8; ++bits_b) {
           if ((bits_b >> j) & 1)
             continue;
-          const Vec3 b_start = b.corner(bits_b);
-          const Vec3 b_end = b.corner(bits_b | 1 << j);
+          const Vec3& b_start = corners_b[std::size_t(bits_b)];
+          const Vec3& b_end = corners_b[std::size_t(bits_b | 1 << j)];
+          // Two segments are at least as far apart as their bounding spheres: most of the 144
+          // edge pairs are farther than the closest corner found, and skipping them changes no
+          // answer (the band covers the rounding of both distances).
+          const Real reach = best.distance + a.half[i] + b.half[j] + kCullBand * scale;
+          if ((a_start + a_end - b_start - b_end).squaredNorm() > 4 * reach * reach)
+            continue;
           Real s = 0;
           Real t = 0;
           closest_parameters_between_segments(a_start, a_end, b_start, b_end, s, t);
