@@ -123,6 +123,7 @@ std::string RunSummary::to_json() const {
                     {"recomputed_pairs", totals_.recomputed_pairs},
                     {"axis_cache_tries", totals_.axis_cache_tries},
                     {"axis_cache_hits", totals_.axis_cache_hits},
+                    {"gjk_warm_starts", totals_.gjk_warm_starts},
                     {"contact_points", totals_.contact_points},
                     {"max_contact_points_in_a_step", max_contact_points_},
                     {"solver_iterations", totals_.solver_iterations},

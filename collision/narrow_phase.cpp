@@ -171,4 +171,39 @@ int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   return count;
 }
 
+bool collides_by_gjk(ShapeType a, ShapeType b) {
+  const PairFunction f = collide_table[std::size_t(a)][std::size_t(b)];
+  return f == cvx || f == xvc;
+}
+
+int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out, GjkCache& cache) {
+  const PairFunction f = collide_table[std::size_t(a.type)][std::size_t(b.type)];
+  if (f != cvx && f != xvc)
+    return collide(a, pose_a, b, pose_b, margin, out);
+  out = Manifold{};
+  // As in_pair_frame and flipped do for the table's entries: the cache lives in the frame of the
+  // shape that runs first, which a flipped entry makes B.
+  const bool flip = f == xvc;
+  const Shape& first = flip ? b : a;
+  const Shape& second = flip ? a : b;
+  const Transform& pose_first = flip ? pose_b : pose_a;
+  const Transform& pose_second = flip ? pose_a : pose_b;
+  const Vec3 origin = pose_first.translation;
+  const Transform local_first{Vec3::Zero(), pose_first.rotation};
+  const Transform local_second{pose_second.translation - origin, pose_second.rotation};
+  const int count =
+      convex_convex_cached(first, local_first, second, local_second, margin, out, &cache);
+  for (int i = 0; i < count; ++i)
+    out.points[i].position += origin;
+  if (flip) {
+    out.normal = -out.normal;
+    for (int i = 0; i < count; ++i)
+      out.points[i].feature = out.points[i].feature.swapped();
+  }
+  if (count == 0)
+    out = Manifold{};
+  return count;
+}
+
 }  // namespace tumble

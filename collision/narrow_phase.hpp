@@ -3,6 +3,7 @@
 #pragma once
 
 #include "collision/contact.hpp"
+#include "collision/gjk.hpp"
 #include "collision/shape.hpp"
 
 namespace tumble {
@@ -16,5 +17,17 @@ namespace tumble {
 // never collide with planes.
 int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out);
+
+// Whether collide() answers shapes of these types, in this order, by GJK/EPA (a cylinder or a hull
+// against another convex shape; hull-hull has its own separating-axis test, and two cylinders no
+// fixed order), so that a GJK warm start can serve it.
+bool collides_by_gjk(ShapeType a, ShapeType b);
+
+// collide() with GJK warm-started (seed 4.5.3): for a pair collides_by_gjk names, GJK starts from
+// `cache` (last step's separating axis in the first shape's frame, and its support vertices) and
+// leaves its final axis there when the shapes are apart; other pairs leave `cache` alone. The
+// answer is collide()'s up to GJK's tolerance (1e-10 of the distance).
+int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out, GjkCache& cache);
 
 }  // namespace tumble

@@ -98,6 +98,15 @@ std::uint64_t state_hash(const State& state) {
     h.add_u64(static_cast<std::uint64_t>(c.body_b));
     h.add_u64(c.axis);
   }
+  h.add_u64(state.gjk_caches.size());
+  for (const PairGjkCache& c : state.gjk_caches) {
+    h.add_u64(static_cast<std::uint64_t>(c.body_a));
+    h.add_u64(static_cast<std::uint64_t>(c.body_b));
+    h.add(c.cache.axis_in_a);
+    h.add_u64(static_cast<std::uint64_t>(c.cache.index_a));
+    h.add_u64(static_cast<std::uint64_t>(c.cache.index_b));
+    h.add_u64(c.cache.valid ? 1 : 0);
+  }
   h.add_u64(state.asleep.size());
   for (std::size_t i = 0; i < state.asleep.size(); ++i) {
     h.add_u64(state.asleep[i]);

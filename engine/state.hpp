@@ -6,12 +6,20 @@
 #include <vector>
 
 #include "collision/box_axis_cache.hpp"
+#include "collision/gjk.hpp"
 #include "collision/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/scene.hpp"
 
 namespace tumble {
+
+// GJK's warm start of one pair (collision/narrow_phase.hpp, collide() with a GjkCache).
+struct PairGjkCache {
+  std::int32_t body_a = 0;  // body_a < body_b
+  std::int32_t body_b = 0;
+  GjkCache cache;
+};
 
 struct State {
   Real time = 0;                         // s
@@ -24,6 +32,9 @@ struct State {
   // The box pairs that were apart last step with the axis that separated them, sorted by pair
   // (collision/box_axis_cache.hpp).
   std::vector<CachedBoxAxis> box_axes;
+  // The pairs collide() answers by GJK that were apart last step, with GJK's last separating
+  // axis and support vertices, sorted by pair: this step's query starts from them.
+  std::vector<PairGjkCache> gjk_caches;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
   std::vector<Real> slow_time;

@@ -57,6 +57,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   recomputed_pairs += o.recomputed_pairs;
   axis_cache_tries += o.axis_cache_tries;
   axis_cache_hits += o.axis_cache_hits;
+  gjk_warm_starts += o.gjk_warm_starts;
   recycle_seconds += o.recycle_seconds;
   recompute_seconds += o.recompute_seconds;
   contact_points += o.contact_points;

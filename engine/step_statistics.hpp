@@ -47,6 +47,8 @@ struct StepStatistics {
   // apart (no query run; collision/box_axis_cache.hpp).
   std::int64_t axis_cache_tries = 0;
   std::int64_t axis_cache_hits = 0;
+  // Pairs answered by GJK that started from last step's separating axis.
+  std::int64_t gjk_warm_starts = 0;
   // Of the narrow phase's time: sorting the candidates while recycling the kept manifolds, and
   // the queries of the pairs collided afresh [s].
   double recycle_seconds = 0;

@@ -131,6 +131,8 @@ void World::teleport(int body, const Vec3& position, const Quat& orientation) {
   });
   std::erase_if(state_.box_axes,
                 [body](const CachedBoxAxis& c) { return c.body_a == body || c.body_b == body; });
+  std::erase_if(state_.gjk_caches,
+                [body](const PairGjkCache& c) { return c.body_a == body || c.body_b == body; });
   rebuild_broad_phase();
 }
 
@@ -366,6 +368,9 @@ void World::collide_candidate_pairs() {
   candidate_manifolds_.resize(n);
   candidate_kept_.assign(n, -1);
   candidate_axis_.assign(n, kNoBoxAxis);
+  candidate_uses_gjk_.assign(n, 0);
+  if (candidate_gjk_.size() < n)
+    candidate_gjk_.resize(n);
   box_queries_.clear();
   box_candidates_.clear();
   sphere_x_.clear();
@@ -380,6 +385,9 @@ void World::collide_candidate_pairs() {
   std::size_t cursor = 0;
   std::size_t axis_cursor = 0;
   std::int64_t axis_tries = 0, axis_hits = 0;
+  const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
+  std::size_t gjk_cursor = 0;
+  std::int64_t gjk_warm = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
     // Both lists are sorted by pair: walk them together.
@@ -430,6 +438,18 @@ void World::collide_candidate_pairs() {
       sphere_pairs_.push_back({first, first + 1});
       sphere_candidates_.push_back(static_cast<std::int32_t>(i));
     } else {
+      if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
+        // Last step's separating axis of a pair GJK answers, if it has one.
+        while (gjk_cursor < gjk_kept.size() &&
+               std::pair{gjk_kept[gjk_cursor].body_a, gjk_kept[gjk_cursor].body_b} <
+                   std::pair{pair.a, pair.b})
+          ++gjk_cursor;
+        const bool found = gjk_cursor < gjk_kept.size() && gjk_kept[gjk_cursor].body_a == pair.a &&
+                           gjk_kept[gjk_cursor].body_b == pair.b;
+        candidate_uses_gjk_[i] = 1;
+        candidate_gjk_[i] = found ? gjk_kept[gjk_cursor].cache : GjkCache{};
+        gjk_warm += found ? 1 : 0;
+      }
       other_candidates_.push_back(static_cast<std::int32_t>(i));
     }
   }
@@ -459,8 +479,15 @@ void World::collide_candidate_pairs() {
                         for (std::int32_t k = begin; k < end; ++k) {
                           const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
                           const ProxyPair& pair = candidate_pairs_[i];
-                          collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                                  shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+                          if (candidate_uses_gjk_[i] != 0) {
+                            collide(bodies[pair.a].shape, shape_poses_[pair.a],
+                                    bodies[pair.b].shape, shape_poses_[pair.b], margin_of(pair),
+                                    candidate_manifolds_[i], candidate_gjk_[i]);
+                          } else {
+                            collide(bodies[pair.a].shape, shape_poses_[pair.a],
+                                    bodies[pair.b].shape, shape_poses_[pair.b], margin_of(pair),
+                                    candidate_manifolds_[i]);
+                          }
                         }
                       });
   for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
@@ -496,11 +523,14 @@ void World::collide_candidate_pairs() {
   current_.recompute_seconds += std::chrono::duration<double>(query_end - query_start).count();
   next_manifolds_.clear();
   next_box_axes_.clear();
+  next_gjk_caches_.clear();
   std::int64_t recycled = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
     if (candidate_axis_[i] != kNoBoxAxis)
       next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
+    if (candidate_uses_gjk_[i] != 0 && candidate_gjk_[i].valid)
+      next_gjk_caches_.push_back({pair.a, pair.b, candidate_gjk_[i]});
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     Manifold& manifold = candidate_manifolds_[i];
@@ -534,6 +564,8 @@ void World::collide_candidate_pairs() {
   }
   state_.manifolds.swap(next_manifolds_);
   state_.box_axes.swap(next_box_axes_);
+  state_.gjk_caches.swap(next_gjk_caches_);
+  current_.gjk_warm_starts += gjk_warm;
   current_.axis_cache_tries += axis_tries;
   current_.axis_cache_hits += axis_hits;
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());

@@ -140,6 +140,9 @@ class World {
   std::vector<std::uint8_t> candidate_axis_;  // per candidate: the axis that separated it
   std::vector<std::uint8_t> box_axes_found_;  // per box query: the axis that separated it
   std::vector<CachedBoxAxis> next_box_axes_;
+  std::vector<std::uint8_t> candidate_uses_gjk_;  // per candidate: collide() answers it by GJK
+  std::vector<GjkCache> candidate_gjk_;           // and its warm start, updated by the query
+  std::vector<PairGjkCache> next_gjk_caches_;
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
   // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's

@@ -267,9 +267,14 @@ int clip_features(const FeaturePolygon& reference, const FeaturePolygon& inciden
 
 int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                   Real margin, Manifold& out) {
+  return convex_convex_cached(a, pose_a, b, pose_b, margin, out, nullptr);
+}
+
+int convex_convex_cached(const Shape& a, const Transform& pose_a, const Shape& b,
+                         const Transform& pose_b, Real margin, Manifold& out, GjkCache* cache) {
   const ConvexSupport sa = ConvexSupport::of(a, pose_a);
   const ConvexSupport sb = ConvexSupport::of(b, pose_b);
-  const GjkResult g = gjk(sa, sb);
+  const GjkResult g = gjk(sa, sb, cache);
   Vec3 normal;
   Real depth;
   Vec3 point_a;

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "collision/contact.hpp"
+#include "collision/gjk.hpp"
 #include "collision/shape.hpp"
 
 namespace tumble::detail {
@@ -59,6 +60,10 @@ int box_box(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 // clipping, and their analytic plane pairs.
 int convex_convex(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                   Real margin, Manifold& out);
+// The same with GJK started from `cache` (null: from the centres' offset); GJK leaves its last
+// separating axis there (collision/gjk.hpp).
+int convex_convex_cached(const Shape& a, const Transform& pose_a, const Shape& b,
+                         const Transform& pose_b, Real margin, Manifold& out, GjkCache* cache);
 int cylinder_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
                    Real margin, Manifold& out);
 int sphere_cylinder(const Shape& a, const Transform& pose_a, const Shape& b,
