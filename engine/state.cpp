@@ -107,6 +107,14 @@ std::uint64_t state_hash(const State& state) {
     h.add_u64(static_cast<std::uint64_t>(c.cache.index_b));
     h.add_u64(c.cache.valid ? 1 : 0);
   }
+  h.add_u64(state.hull_axes.size());
+  for (const CachedHullAxis& c : state.hull_axes) {
+    h.add_u64(static_cast<std::uint64_t>(c.body_a));
+    h.add_u64(static_cast<std::uint64_t>(c.body_b));
+    h.add(c.axis.direction_in_a);
+    h.add_u64(static_cast<std::uint64_t>(c.axis.support_a));
+    h.add_u64(static_cast<std::uint64_t>(c.axis.support_b));
+  }
   h.add_u64(state.asleep.size());
   for (std::size_t i = 0; i < state.asleep.size(); ++i) {
     h.add_u64(state.asleep[i]);

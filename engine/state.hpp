@@ -7,6 +7,7 @@
 
 #include "collision/box_axis_cache.hpp"
 #include "collision/gjk.hpp"
+#include "collision/hull_axis_cache.hpp"
 #include "collision/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
@@ -35,6 +36,9 @@ struct State {
   // The pairs collide() answers by GJK that were apart last step, with GJK's last separating
   // axis and support vertices, sorted by pair: this step's query starts from them.
   std::vector<PairGjkCache> gjk_caches;
+  // The hull pairs that were apart last step with a direction that separated them, sorted by
+  // pair (collision/hull_axis_cache.hpp).
+  std::vector<CachedHullAxis> hull_axes;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
   std::vector<Real> slow_time;

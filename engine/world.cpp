@@ -133,6 +133,8 @@ void World::teleport(int body, const Vec3& position, const Quat& orientation) {
                 [body](const CachedBoxAxis& c) { return c.body_a == body || c.body_b == body; });
   std::erase_if(state_.gjk_caches,
                 [body](const PairGjkCache& c) { return c.body_a == body || c.body_b == body; });
+  std::erase_if(state_.hull_axes,
+                [body](const CachedHullAxis& c) { return c.body_a == body || c.body_b == body; });
   rebuild_broad_phase();
 }
 
@@ -369,6 +371,9 @@ void World::collide_candidate_pairs() {
   candidate_kept_.assign(n, -1);
   candidate_axis_.assign(n, kNoBoxAxis);
   candidate_uses_gjk_.assign(n, 0);
+  candidate_is_hull_pair_.assign(n, 0);
+  if (candidate_hull_axis_.size() < n)
+    candidate_hull_axis_.resize(n);
   if (candidate_gjk_.size() < n)
     candidate_gjk_.resize(n);
   box_queries_.clear();
@@ -388,6 +393,9 @@ void World::collide_candidate_pairs() {
   const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
   std::size_t gjk_cursor = 0;
   std::int64_t gjk_warm = 0;
+  const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
+  std::size_t hull_cursor = 0;
+  std::int64_t hull_tries = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
     // Both lists are sorted by pair: walk them together.
@@ -438,7 +446,20 @@ void World::collide_candidate_pairs() {
       sphere_pairs_.push_back({first, first + 1});
       sphere_candidates_.push_back(static_cast<std::int32_t>(i));
     } else {
-      if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
+      if (bodies[pair.a].shape.type == ShapeType::hull &&
+          bodies[pair.b].shape.type == ShapeType::hull) {
+        // Last step's separating direction of a hull pair, tried in the query loop below.
+        while (hull_cursor < hull_kept.size() &&
+               std::pair{hull_kept[hull_cursor].body_a, hull_kept[hull_cursor].body_b} <
+                   std::pair{pair.a, pair.b})
+          ++hull_cursor;
+        const bool found = hull_cursor < hull_kept.size() &&
+                           hull_kept[hull_cursor].body_a == pair.a &&
+                           hull_kept[hull_cursor].body_b == pair.b;
+        candidate_is_hull_pair_[i] = 1;
+        candidate_hull_axis_[i] = found ? hull_kept[hull_cursor].axis : HullAxis{};
+        hull_tries += found ? 1 : 0;
+      } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
         // Last step's separating axis of a pair GJK answers, if it has one.
         while (gjk_cursor < gjk_kept.size() &&
                std::pair{gjk_kept[gjk_cursor].body_a, gjk_kept[gjk_cursor].body_b} <
@@ -454,6 +475,7 @@ void World::collide_candidate_pairs() {
     }
   }
   const auto query_start = std::chrono::steady_clock::now();
+  hull_hits_.assign(other_candidates_.size(), 0);
   if (box_manifolds_.size() < box_queries_.size())
     box_manifolds_.resize(box_queries_.size());
   box_axes_found_.resize(box_queries_.size());
@@ -474,22 +496,40 @@ void World::collide_candidate_pairs() {
                   : kNoBoxAxis;
         }
       });
-  runner_->for_chunks(static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
-                      [&](std::int32_t begin, std::int32_t end) {
-                        for (std::int32_t k = begin; k < end; ++k) {
-                          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
-                          const ProxyPair& pair = candidate_pairs_[i];
-                          if (candidate_uses_gjk_[i] != 0) {
-                            collide(bodies[pair.a].shape, shape_poses_[pair.a],
-                                    bodies[pair.b].shape, shape_poses_[pair.b], margin_of(pair),
-                                    candidate_manifolds_[i], candidate_gjk_[i]);
-                          } else {
-                            collide(bodies[pair.a].shape, shape_poses_[pair.a],
-                                    bodies[pair.b].shape, shape_poses_[pair.b], margin_of(pair),
-                                    candidate_manifolds_[i]);
-                          }
-                        }
-                      });
+  runner_->for_chunks(
+      static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
+      [&](std::int32_t begin, std::int32_t end) {
+        for (std::int32_t k = begin; k < end; ++k) {
+          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
+          const ProxyPair& pair = candidate_pairs_[i];
+          if (candidate_is_hull_pair_[i] != 0) {
+            // Apart along last step's direction: no contact, no query.
+            // Otherwise the query, and a direction for next step if apart.
+            const ConvexHull& hull_a = *bodies[pair.a].shape.hull;
+            const ConvexHull& hull_b = *bodies[pair.b].shape.hull;
+            HullAxis& axis = candidate_hull_axis_[i];
+            if (hull_axis_separates(hull_a, shape_poses_[pair.a], hull_b, shape_poses_[pair.b],
+                                    axis, margin_of(pair))) {
+              candidate_manifolds_[i] = Manifold{};
+              hull_hits_[std::size_t(k)] = 1;
+              continue;
+            }
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+            axis = candidate_manifolds_[i].count == 0
+                       ? separating_hull_axis(hull_a, shape_poses_[pair.a], hull_b,
+                                              shape_poses_[pair.b], margin_of(pair))
+                       : HullAxis{};
+          } else if (candidate_uses_gjk_[i] != 0) {
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
+                    candidate_gjk_[i]);
+          } else {
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+          }
+        }
+      });
   for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
     candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
     candidate_axis_[std::size_t(box_candidates_[k])] = box_axes_found_[k];
@@ -524,6 +564,7 @@ void World::collide_candidate_pairs() {
   next_manifolds_.clear();
   next_box_axes_.clear();
   next_gjk_caches_.clear();
+  next_hull_axes_.clear();
   std::int64_t recycled = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
@@ -531,6 +572,8 @@ void World::collide_candidate_pairs() {
       next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
     if (candidate_uses_gjk_[i] != 0 && candidate_gjk_[i].valid)
       next_gjk_caches_.push_back({pair.a, pair.b, candidate_gjk_[i]});
+    if (candidate_is_hull_pair_[i] != 0 && candidate_hull_axis_[i].direction_in_a.squaredNorm() > 0)
+      next_hull_axes_.push_back({pair.a, pair.b, candidate_hull_axis_[i]});
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     Manifold& manifold = candidate_manifolds_[i];
@@ -565,6 +608,12 @@ void World::collide_candidate_pairs() {
   state_.manifolds.swap(next_manifolds_);
   state_.box_axes.swap(next_box_axes_);
   state_.gjk_caches.swap(next_gjk_caches_);
+  state_.hull_axes.swap(next_hull_axes_);
+  std::int64_t hull_hits = 0;
+  for (std::size_t k = 0; k < other_candidates_.size(); ++k)
+    hull_hits += hull_hits_[k];
+  current_.axis_cache_tries += hull_tries;
+  current_.axis_cache_hits += hull_hits;
   current_.gjk_warm_starts += gjk_warm;
   current_.axis_cache_tries += axis_tries;
   current_.axis_cache_hits += axis_hits;

@@ -143,6 +143,10 @@ class World {
   std::vector<std::uint8_t> candidate_uses_gjk_;  // per candidate: collide() answers it by GJK
   std::vector<GjkCache> candidate_gjk_;           // and its warm start, updated by the query
   std::vector<PairGjkCache> next_gjk_caches_;
+  std::vector<std::uint8_t> candidate_is_hull_pair_;  // per candidate: two hulls
+  std::vector<HullAxis> candidate_hull_axis_;         // and the direction that keeps them apart
+  std::vector<CachedHullAxis> next_hull_axes_;
+  std::vector<std::uint8_t> hull_hits_;  // per other candidate: skipped by its cached direction
   std::vector<PairContact> contacts_;
   ContactSolver solver_;
   // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's
