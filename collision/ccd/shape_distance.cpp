@@ -6,6 +6,7 @@
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/shape.hpp"
 #include "collision/triangle_mesh.hpp"
 
 namespace tumble {
@@ -33,11 +34,20 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
   out.distance = max_distance;
   out.separating_normal = false;
   bool found = false;
+  // The shape lies in a ball of this radius about its centre, so a triangle whose plane is
+  // farther from the centre than the radius plus the nearest distance found cannot be nearer
+  // (signed: the depth of an overlap is at most the radius less the plane's distance), and its
+  // GJK query is skipped; the band keeps rounding from changing the answer.
+  const Real radius = bounding_radius(convex);
+  const Real band = Real(1e-9) * (radius + std::abs(max_distance) + mesh.bounding_radius());
   mesh.for_each_overlapping(reach, [&](int t) {
     // Corners in the world frame, then relative to the shape's centre.
     std::array<Vec3, 3> corners;
     for (int k = 0; k < 3; ++k)
       corners[std::size_t(k)] = pose_m.apply(mesh.corner(t, k)) - pose_c.translation;
+    const Real plane_distance = std::abs(pose_m.rotate(mesh.normal(t)).dot(corners[0]));
+    if (plane_distance - radius > out.distance + band)
+      return;
     const ConvexSupport triangle = ConvexSupport::of_points(corners.data(), 3, {});
     const GjkResult g = gjk(shape_support, triangle);
     Real distance = g.distance;
