@@ -1,4 +1,4 @@
-// Answers each query (design.md):
+// Answers each query (docs/scene-format.md, "Query files"):
 //   contact, convex pair (sphere, box, capsule, cylinder, hull on both sides): GJK
 //     (collision/gjk.hpp) in a pair-local frame (poses relative to a's position) gives the
 //     signed distance, the normal and the witness points; when the cores intersect, EPA

@@ -1,5 +1,5 @@
-// `tumble query FILE.yaml`: collision queries between pairs of shapes (design.md). Prints one
-// JSON object per query and line:
+// `tumble query FILE.yaml`: collision queries between pairs of shapes (docs/scene-format.md,
+// "Query files"). Prints one JSON object per query and line:
 //   contact: {"name", "kind", "status", "status_source", "state", "distance", "normal",
 //             "point_a", "point_b", "contacts": [{"position", "depth", "feature": [a, b]}]}
 //   toi:     {"name", "kind", "status", "toi", "duration", "distance", "normal", "pose_a",

@@ -1,5 +1,5 @@
-// Trajectory CSV: header `time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz` (design.md), one
-// row per body per recorded step, body by name. Written atomically on finish().
+// Trajectory CSV: header `time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz` (README.md, "Using
+// it"), one row per body per recorded step, body by name. Written atomically on finish().
 #pragma once
 
 #include <filesystem>

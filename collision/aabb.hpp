@@ -1,4 +1,4 @@
-// Axis-aligned bounding box, the currency of the broad phase (seed 4.1.1).
+// Axis-aligned bounding box, the currency of the broad phase (docs/broad-phase.md).
 #pragma once
 
 #include <limits>

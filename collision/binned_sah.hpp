@@ -1,7 +1,7 @@
 // One split of a top-down BVH build by the surface area heuristic evaluated at bin boundaries
 // (internal): Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
 // Symposium on Interactive Ray Tracing 2007. Shared by the dynamic tree's rebuild and the
-// linear BVH's binned build (seed exercise 4.4).
+// linear BVH's binned build.
 #pragma once
 
 #include <algorithm>

@@ -1,6 +1,6 @@
-// Box-box contact manifolds for many pairs at once (issue 3): the separating-axis test, the face
-// clipping and the choice of four points of eight pairs run side by side, one pair per vector
-// lane, with no branch on any pair's geometry.
+// Box-box contact manifolds for many pairs at once (docs/narrow-phase.md, "Many box pairs at
+// once"): the separating-axis test, the face clipping and the choice of four points of eight
+// pairs run side by side, one pair per vector lane, with no branch on any pair's geometry.
 //
 // Each pair is answered as collide() answers it: the same order of the two boxes (so the normal
 // points from B to A of the query), the same axis and normal up to rounding, the same number of

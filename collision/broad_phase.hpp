@@ -1,5 +1,5 @@
-// The broad phase interface (seed 4.1.1): every structure keeps one proxy per body and reports
-// the pairs whose boxes overlap. Output is the same pair set as brute force, in one
+// The broad phase interface (docs/broad-phase.md): every structure keeps one proxy per body and
+// reports the pairs whose boxes overlap. Output is the same pair set as brute force, in one
 // deterministic order, whatever the structure, so the choice of structure never changes a
 // simulation's result.
 #pragma once
@@ -11,8 +11,8 @@
 
 namespace tumble {
 
-// The structures tumble has (seed 4.1 and 4.4). `automatic` lets the engine choose from the
-// scene's statistics (docs/broad-phase.md).
+// The structures tumble has (docs/broad-phase.md, "The structures"). `automatic` lets the engine
+// choose from the scene's statistics.
 enum class BroadPhaseType : std::uint8_t {
   automatic,
   brute,   // all pairs, O(n^2)

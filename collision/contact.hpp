@@ -1,7 +1,7 @@
-// The contact convention (design.md): for a pair (A, B) the normal is a unit vector pointing
-// from B to A, the depth is positive when the shapes penetrate and negative when they are apart,
-// and the point is world-space, midway between the two surfaces. Feature ids name which
-// vertex, edge or face of each shape made the point, so points can be matched across steps.
+// The contact convention (docs/architecture.md, "One step"): for a pair (A, B) the normal is a unit
+// vector pointing from B to A, the depth is positive when the shapes penetrate and negative when
+// they are apart, and the point is world-space, midway between the two surfaces. Feature ids name
+// which vertex, edge or face of each shape made the point, so points can be matched across steps.
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // Dynamic AABB tree: a binary bounding volume hierarchy over boxes that can be inserted, removed
-// and moved one at a time (seed 4.4.1, "动态更新": refit, rebuild, insert/delete).
+// and moved one at a time (incremental updates: refit, rebuild, insert and delete).
 //
 // Sources:
 // - Insertion picks the sibling that minimises the growth of the tree's surface-area cost by
@@ -13,9 +13,9 @@
 //   Scenes", I3D 2012, section 3.
 // - rebuild() is a top-down build with the surface area heuristic evaluated at 16 bin
 //   boundaries per axis: Wald, "On fast Construction of SAH-based Bounding Volume
-//   Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007 (seed exercise 4.4).
-// - The pair traversals follow seed 4.4.1's DualTraverse: descend the node with the larger
-//   surface area.
+//   Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007.
+// - The pair traversals descend two hierarchies together: at each pair of nodes, descend the
+//   node with the larger surface area.
 //
 // Layout: nodes live in one flat array and refer to each other by index, never by pointer, so
 // the array can grow and the tree can be copied; freed nodes form a free list threaded through
@@ -335,7 +335,7 @@ void DynamicAabbTree::ray_cast(const SegmentProbe& segment, Visit&& visit) const
   }
 }
 
-// Seed 4.4.1's DualTraverse, iterative: visit(leaf_a, leaf_b) for every leaf of `a` and leaf of
+// Dual traversal of two trees, iterative: visit(leaf_a, leaf_b) for every leaf of `a` and leaf of
 // `b` whose boxes overlap, each pair once. At a pair of nodes the one with the larger surface
 // area is split, which keeps the two boxes of similar size and prunes soonest. For tree vs tree
 // (static against dynamic proxies, mesh against mesh).

@@ -1,4 +1,4 @@
-// Broad phase on dynamic AABB trees (seed 4.4.1), the "bvh" choice of the scene format.
+// Broad phase on dynamic AABB trees (docs/broad-phase.md), the "bvh" choice of the scene format.
 //
 // Two DynamicAabbTree instances: one for dynamic proxies, one for static ones, so static pairs
 // are never even looked at. Proxies whose box has an infinite side (planes) go in a short list

@@ -1,5 +1,5 @@
 // EPA, the expanding polytope algorithm: penetration depth and normal of two intersecting convex
-// objects from GJK's final simplex (seed 4.2.4). van den Bergen, "Proximity Queries and
+// objects from GJK's final simplex. van den Bergen, "Proximity Queries and
 // Penetration Depth Computation on 3D Game Objects", GDC 2001; Ericson, Real-Time Collision
 // Detection, 2005, 9.5; the curved fallback's descent: Burke, Lewis and Overton, "A robust
 // gradient sampling algorithm for nonsmooth, nonconvex optimization", SIAM J. Optim. 15(3), 2005.

@@ -1,4 +1,4 @@
-// GJK distance query between two convex objects given by support maps (seed 4.2.2, 4.2.3).
+// GJK distance query between two convex objects given by support maps.
 //
 // Sources: Gilbert, Johnson and Keerthi, "A fast procedure for computing the distance between
 // complex objects in three-dimensional space", IEEE J. Robotics and Automation 4(2), 1988;
@@ -85,8 +85,9 @@ struct GjkResult {
   GjkSimplex simplex;  // final simplex of the core query, in A's local frame (input to EPA)
 };
 
-// Warm-start data kept per pair between steps (seed 4.5.3): last step's separating axis in the
-// frame of A (so it survives the pair moving as a whole) and the support vertices it ended on.
+// Warm-start data kept per pair between steps (docs/narrow-phase.md, "GJK"): last step's
+// separating axis in the frame of A (so it survives the pair moving as a whole) and the support
+// vertices it ended on.
 struct GjkCache {
   Vec3 axis_in_a = Vec3::Zero();
   int index_a = 0;

@@ -1,10 +1,10 @@
-// Hierarchical grid broad phase (seed 4.4.4, "分层网格"): levels of cells of edge
-// s_l = s_0 * 2^l, each box on the one level whose cells are as large as the box, each level a
-// hashed grid. After Mirtich, "Efficient Algorithms for Two-Phase Collision Detection" (MERL
-// TR-97-23, 1997), the hierarchical hash grid, and Ericson, Real-Time Collision Detection
-// (2005), 7.2 (hierarchical grids). Cells are hashed with the primes of Teschner et al.,
-// "Optimized Spatial Hashing for Collision Detection of Deformable Objects" (VMV 2003) into a
-// power-of-two open-addressing table per level (linear probing).
+// Hierarchical grid broad phase: levels of cells of edge s_l = s_0 * 2^l, each box on the one
+// level whose cells are as large as the box, each level a hashed grid. After Mirtich,
+// "Efficient Algorithms for Two-Phase Collision Detection" (MERL TR-97-23, 1997), the
+// hierarchical hash grid, and Ericson, Real-Time Collision Detection (2005), 7.2 (hierarchical
+// grids). Cells are hashed with the primes of Teschner et al., "Optimized Spatial Hashing for
+// Collision Detection of Deformable Objects" (VMV 2003) into a power-of-two open-addressing
+// table per level (linear probing).
 //
 // Definitions.
 // - r, a box's size: its largest extent, max over axes of (max - min).

@@ -1,12 +1,12 @@
-// k-d tree broad phase with SAH splits (seed 4.4.3).
+// k-d tree broad phase with SAH splits.
 //
 // Based on: J. D. MacDonald and K. S. Booth, "Heuristics for ray tracing using space
 // subdivision", The Visual Computer 6(3), 1990 (the cost heuristic); I. Wald and V. Havran, "On
 // building fast kd-trees for ray tracing, and on doing that in O(N log N)", IEEE Symposium on
 // Interactive Ray Tracing 2006 (candidate planes at box boundaries, termination when splitting
 // does not pay); I. Wald, "On fast construction of SAH-based bounding volume hierarchies", IEEE
-// RT 2007 (binning, also the seed's exercise 4.4); C. Waechter and A. Keller, "Instant ray
-// tracing: the bounding interval hierarchy", EGSR 2006 (boxes that straddle a plane).
+// RT 2007 (binning); C. Waechter and A. Keller, "Instant ray tracing: the bounding interval
+// hierarchy", EGSR 2006 (boxes that straddle a plane).
 //
 // Build (top down). At a node holding n boxes with bounds B, each axis a is cut into `bins`
 // equal bins over B; every box's min and max are counted in the bins, and the bins-1 planes
@@ -14,7 +14,7 @@
 // O(n log n) sort of an exact sweep). A plane p sends a box left if box.max[a] <= p, right if
 // box.min[a] >= p, and otherwise the box straddles p and stays at the node.
 //
-// Cost (the seed's n_L V_L + n_R V_R, extended): a proxy's own box is the query in a broad
+// Cost (n_L V_L + n_R V_R with V a volume, extended): a proxy's own box is the query in a broad
 // phase, and a box of half extent r overlaps a region R exactly when its centre is in R grown
 // by r (the Minkowski sum). So V is taken as the volume of the region grown by the mean half
 // extent of the node's boxes, not the bare volume (which is right only for point queries) and

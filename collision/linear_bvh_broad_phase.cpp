@@ -17,9 +17,9 @@ namespace {
 constexpr Real inf = std::numeric_limits<Real>::infinity();
 
 // Self traversal: visit(leaf_a, leaf_b) for every unordered pair of distinct leaves whose boxes
-// overlap, each once. Same scheme as the dynamic tree's (seed 4.4.1 DualTraverse, a node
-// against itself expanding to its children against themselves and each other); only pairs that
-// overlap and are not both leaves are pushed.
+// overlap, each once. Same scheme as the dynamic tree's dual traversal (a node against itself
+// expanding to its children against themselves and each other); only pairs that overlap and are
+// not both leaves are pushed.
 template <class Visit>
 void self_pairs(const Hierarchy& h, Visit&& visit) {
   using Pair = tree_detail::NodePair;

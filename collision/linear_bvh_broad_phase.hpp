@@ -1,6 +1,6 @@
-// Linear BVH broad phase (seed 4.4.1 "LBVH", exercise 4.4), the "lbvh" choice of the scene
-// format: no incremental structure at all; every find_pairs builds a hierarchy from scratch over
-// the current boxes and enumerates the overlapping pairs by the tree's self traversal.
+// Linear BVH broad phase, the "lbvh" choice of the scene format: no incremental structure at all;
+// every find_pairs builds a hierarchy from scratch over the current boxes and enumerates the
+// overlapping pairs by the tree's self traversal.
 //
 // Two builders, chosen by a constructor parameter:
 // - morton_karras (default): 30-bit Morton codes of the box centres, normalised to the bounds of
@@ -10,7 +10,7 @@
 //   its range and split from the codes alone, so it is O(n) and needs no recursion); then boxes
 //   bottom-up (each internal node is finished by the second of its children to arrive).
 // - binned_sah: top-down surface area heuristic with 16 bins per axis (Wald, "On fast
-//   Construction of SAH-based Bounding Volume Hierarchies", RT 2007; seed exercise 4.4).
+//   Construction of SAH-based Bounding Volume Hierarchies", RT 2007).
 // Both give a binary tree with one proxy per leaf, laid out the same way, so the traversals
 // are shared. Build time and tree quality are the trade-off (see docs and stats()).
 //

@@ -243,7 +243,7 @@ void LooseOctreeBroadPhase::place(std::int32_t slot) {
     split_node(n);
 }
 
-// Seed 4.4.2 subdivision: more than n_max proxies and depth below d_max. Proxies small enough for
+// Subdivision: more than n_max proxies and depth below d_max. Proxies small enough for
 // the child level move to the child holding their centre; larger ones stay. Children that end up
 // crowded split in turn.
 void LooseOctreeBroadPhase::split_node(std::int32_t n) {

@@ -1,21 +1,21 @@
-// Loose octree broad phase (seed 4.4.2).
+// Loose octree broad phase.
 //
 // Based on: T. Ulrich, "Loose Octrees", Game Programming Gems (M. DeLoura ed.), Charles River
 // Media, 2000, section 4.11; and C. Ericson, "Real-Time Collision Detection", Morgan Kaufmann
 // 2005, section 7.3.6.
 //
 // Each node is a cubic cell of half side h; its loose bound is the cell scaled by (1 + k) about
-// its centre, i.e. the cell grown by the slack k h on every side (k in [0.5, 1], the seed's
-// loose factor). A box of largest half extent r whose centre lies in a cell is inside that
+// its centre, i.e. the cell grown by the slack k h on every side (k in [0.5, 1], the loose
+// factor). A box of largest half extent r whose centre lies in a cell is inside that
 // cell's loose bound whenever r <= k h, wherever in the cell the centre is. So a box's level
 // follows from its size alone (Ulrich's rule): the deepest level L with r <= k H / 2^L, where H
 // is the root's half side. For k = 1 that is L = floor(log2(H / r)).
 //
-// The tree is sparse and adaptive (seed 4.4.2 subdivision conditions): a node is split only
-// when it holds more than `max_node_objects` proxies and its depth is below `max_depth`; a box
-// descends to min(its size level, the deepest split node on its centre's path). Children are
-// created on demand, empty ones are freed, and a split node whose whole subtree holds at most
-// max_node_objects / 2 proxies is merged back (hysteresis, so a node does not flip every step).
+// The tree is sparse and adaptive: a node is split only when it holds more than
+// `max_node_objects` proxies and its depth is below `max_depth`; a box descends to min(its size
+// level, the deepest split node on its centre's path). Children are created on demand, empty ones
+// are freed, and a split node whose whole subtree holds at most max_node_objects / 2 proxies is
+// merged back (hysteresis, so a node does not flip every step).
 //
 // The world adapts: a box outside the root's loose bound (or whose centre is outside the root's
 // cell) makes the root grow by re-rooting (a new root of twice the side, the old root one of
@@ -66,9 +66,9 @@ namespace tumble {
 
 class LooseOctreeBroadPhase final : public BroadPhase {
  public:
-  // looseness: the seed's k in [0.5, 1]; the loose bound is the cell scaled by (1 + k).
-  // max_node_objects: the seed's n_max, split a node holding more proxies than this.
-  // max_depth: the seed's d_max, never split a node at this depth (the root is depth 0).
+  // looseness: the loose factor k in [0.5, 1]; the loose bound is the cell scaled by (1 + k).
+  // max_node_objects: n_max, split a node holding more proxies than this.
+  // max_depth: d_max, never split a node at this depth (the root is depth 0).
   explicit LooseOctreeBroadPhase(Real looseness = 1.0, int max_node_objects = 32,
                                  int max_depth = 20);
 

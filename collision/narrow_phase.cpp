@@ -1,5 +1,5 @@
-// The narrow phase entry point and its dispatch table (seed 4.1.4; the table reads like
-// MuJoCo's mjCOLLISIONFUNC). Each unordered pair of shape types has one pair function, written
+// The narrow phase entry point and its dispatch table (the table reads like MuJoCo's
+// mjCOLLISIONFUNC). Each unordered pair of shape types has one pair function, written
 // for one order (collision/pairs/); the table runs it directly or through `flipped`, which swaps
 // the arguments and then flips the normal and swaps the feature ids. So calling with A and B
 // swapped gives the mirrored answer by construction, bit for bit.

@@ -1,5 +1,5 @@
-// Narrow phase entry point (seed 4.1.4): one function per pair of shape types, looked up in a
-// table indexed by the two types (the way MuJoCo's collision table reads).
+// Narrow phase entry point (docs/narrow-phase.md): one function per pair of shape types, looked up
+// in a table indexed by the two types (the way MuJoCo's collision table reads).
 #pragma once
 
 #include "collision/contact.hpp"
@@ -23,10 +23,10 @@ int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 // fixed order), so that a GJK warm start can serve it.
 bool collides_by_gjk(ShapeType a, ShapeType b);
 
-// collide() with GJK warm-started (seed 4.5.3): for a pair collides_by_gjk names, GJK starts from
-// `cache` (last step's separating axis in the first shape's frame, and its support vertices) and
-// leaves its final axis there when the shapes are apart; other pairs leave `cache` alone. The
-// answer is collide()'s up to GJK's tolerance (1e-10 of the distance).
+// collide() with GJK warm-started (docs/narrow-phase.md, "GJK"): for a pair collides_by_gjk
+// names, GJK starts from `cache` (last step's separating axis in the first shape's frame, and its
+// support vertices) and leaves its final axis there when the shapes are apart; other pairs leave
+// `cache` alone. The answer is collide()'s up to GJK's tolerance (1e-10 of the distance).
 int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out, GjkCache& cache);
 

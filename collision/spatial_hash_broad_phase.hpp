@@ -1,10 +1,10 @@
-// Spatial hash broad phase (seed 4.1.3 and 4.4.4).
+// Spatial hash broad phase.
 //
 // Source: M. Teschner, B. Heidelberger, M. Mueller, D. Pomeranets, M. Gross, "Optimized Spatial
 // Hashing for Collision Detection of Deformable Objects", VMV 2003: space is cut into cubic
 // cells of edge h, cell (i, j, k) goes to bucket (i p1 xor j p2 xor k p3) mod M with the primes
 // p1 = 73856093, p2 = 19349663, p3 = 83492791, and only the cells that hold something cost
-// memory. The seed's rule of thumb for h is about twice the mean object radius; tumble takes
+// memory. A rule of thumb for h is about twice the mean object radius; tumble takes
 // a box's radius to be that of its bounding sphere.
 //
 // The table is rebuilt by every find_pairs with a counting sort of (cell, proxy) entries into

@@ -1,8 +1,9 @@
-// Sphere-sphere over many pairs at once (issue 3): the narrow phase for scenes of balls, grains
-// and particles, where the per-pair path (dispatch table, pair-local frame, a full Manifold per
-// pair) costs more than the geometry itself. Spheres are given as structure-of-arrays (centres
-// and radii in separate arrays, the layout a data-oriented engine keeps anyway) and pairs as
-// index pairs into them; the pairs are processed in blocks by branch-free, vectorised loops.
+// Sphere-sphere over many pairs at once (docs/narrow-phase.md, "Many sphere pairs at once"): the
+// narrow phase for scenes of balls, grains and particles, where the per-pair path (dispatch
+// table, pair-local frame, a full Manifold per pair) costs more than the geometry itself. Spheres
+// are given as structure-of-arrays (centres and radii in separate arrays, the layout a
+// data-oriented engine keeps anyway) and pairs as index pairs into them; the pairs are processed in
+// blocks by branch-free, vectorised loops.
 //
 // The answers are those of collide() for the same two spheres, bit for bit (same ordering rule
 // of equal shapes, same pair-local frame, same arithmetic): a batch and a loop over collide()

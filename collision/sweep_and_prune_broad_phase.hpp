@@ -1,4 +1,4 @@
-// Incremental sweep and prune on three axes (seed 4.1.2, exercise 4.2).
+// Incremental sweep and prune on three axes.
 //
 // Sources: D. Baraff, "Dynamic simulation of non-penetrating rigid bodies", PhD thesis, Cornell
 // University, 1992 (keep the bounding boxes' interval endpoints sorted on each axis and exploit

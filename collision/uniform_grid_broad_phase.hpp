@@ -1,4 +1,4 @@
-// Uniform grid broad phase (seed 4.4.4): a dense grid over the bounds of the finite boxes,
+// Uniform grid broad phase: a dense grid over the bounds of the finite boxes,
 // rebuilt every find_pairs by a counting sort into two flat arrays (cell start offsets and the
 // proxy indices of each cell, no per-cell containers), with the cells numbered along a Z-order
 // (Morton) curve so that neighbouring cells sit near each other in memory. The layout is the

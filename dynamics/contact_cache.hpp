@@ -1,6 +1,7 @@
-// Impulses carried from one step to the next (seed 4.5.3): one record per touching pair, one
-// entry per manifold point keyed by its feature id. Part of the world's State, so that a copied
-// or restored state warm-starts exactly as the original would.
+// Impulses carried from one step to the next for warm starting (Catto, "Iterative Dynamics with
+// Temporal Coherence", GDC 2005): one record per touching pair, one entry per manifold point
+// keyed by its feature id. Part of the world's State, so that a copied or restored state
+// warm-starts exactly as the original would.
 #pragma once
 
 #include <array>

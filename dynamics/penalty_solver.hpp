@@ -1,4 +1,5 @@
-// Penalty contact solver (seed 4.7.5): each contact point is a spring-damper along the normal,
+// Penalty contact solver (Moore and Wilhelms, "Collision Detection and Response for Computer
+// Animation", SIGGRAPH 1988): each contact point is a spring-damper along the normal,
 //   f_n = max(0, -k phi - c v_n),
 // with phi the signed separation (negative when penetrating) and v_n the normal approach
 // velocity, and regularised Coulomb friction: a viscous force -mu f_n v_t / v_reg, clamped to

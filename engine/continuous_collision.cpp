@@ -222,9 +222,9 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
   return counts;
 }
 
-// Sort and sweep on x (seed 4.1.2) over entries_, testing the overlapping pairs with a swept
-// body. Ties sort by body index so the order is fixed; the times found do not depend on the order
-// anyway (each body keeps its earliest).
+// Sort and sweep on x (Baraff 1992; Cohen et al., I-COLLIDE 1995) over entries_, testing the
+// overlapping pairs with a swept body. Ties sort by body index so the order is fixed; the times
+// found do not depend on the order anyway (each body keeps its earliest).
 void ContinuousCollision::sort_and_sweep(ContinuousCollisionCounts& counts) {
   std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
     return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);

@@ -1,6 +1,8 @@
-// The continuous-collision stage of the step (design.md step 5; seed 4.3 and pitfall 2): bodies
-// that move far in a step are swept from their pose at the start of the step to their pose at
-// the end, and a body that would meet another is stopped at the first time of impact.
+// The continuous-collision stage of the step (docs/ccd.md, "In the stepper"). Discrete collision
+// looks at the world once per step, so a body that moves farther than its thickness in a step
+// can pass through a thin one (tunnelling). Bodies that move far in a step are therefore swept
+// from their pose at the start of the step to their pose at the end, and a body that would meet
+// another is stopped at the first time of impact.
 //
 // Which pairs are tested: only swept bodies pay for sweeps. The discrete broad phase holds every
 // body's box at the start of the step, grown by at most the sweep threshold below (World's

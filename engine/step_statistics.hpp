@@ -1,5 +1,6 @@
-// What one step did and how long each phase took (seed 4.5.5). Timings are wall-clock and vary
-// from run to run; they never feed back into the simulation.
+// What one step did and how long each phase took (like Box2D's b2Profile; docs/architecture.md,
+// "One step"). Timings are wall-clock and vary from run to run; they never feed back into the
+// simulation.
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
-// The world stepper. `World::step` reads as the outline of the algorithm (design.md, "One
-// step"); each phase is a named function with its own timer.
+// The world stepper. `World::step` reads as the outline of the algorithm (docs/architecture.md,
+// "One step"); each phase is a named function with its own timer.
 #pragma once
 
 #include <memory>
@@ -45,8 +45,8 @@ class World {
 
   // Moves one body to a new pose at once, keeping its velocities (a teleport, not motion). The
   // warm-start cache of every pair the body is in is dropped: last step's impulses belong to
-  // contacts that no longer exist (seed 4.5.3; pitfall 7). reset() and set_state() bring their
-  // own cache (empty for reset), so they need no such step.
+  // contacts that no longer exist. reset() and set_state() bring their own cache (empty for
+  // reset), so they need no such step.
   void teleport(int body, const Vec3& position, const Quat& orientation);
 
   // Advances by scene().world.dt, in scene().world.substeps equal substeps.

@@ -15,7 +15,7 @@
 
 namespace tumble::render {
 
-// Debug overlays (seed's debugging checklist), each drawn only when asked for.
+// Debug overlays (docs/rendering.md, "Debug overlays"), each drawn only when asked for.
 enum class Overlay : std::uint8_t {
   aabb,      // each bounded body's world AABB, yellow
   pairs,     // a line between the centres of each broad-phase candidate pair, cyan

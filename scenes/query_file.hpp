@@ -1,4 +1,4 @@
-// The input of `tumble query` (design.md): a YAML file with a list of shape pairs,
+// The input of `tumble query` (docs/scene-format.md): a YAML file with a list of shape pairs,
 //   queries: [{name, kind, margin, duration, method, a: {shape, position, orientation, velocity,
 //              angular_velocity}, b: {...}}]
 // Shapes are written exactly as in scene files (the same parser reads them). Errors are the

@@ -179,7 +179,8 @@ constexpr std::array<std::string_view, 3> kPartKeys{"shape", "position", "orient
 constexpr IntSpec kVertexIndex{"a vertex index", "0 to the number of vertices - 1", 0,
                                std::int64_t(1) << 31};
 
-// Names design.md reserves for later; they get "not implemented yet" rather than "unknown".
+// Shape names the scene format reserves for later (docs/scene-format.md, "Shapes"); they get "not
+// implemented yet" rather than "unknown".
 constexpr std::array<std::string_view, 1> kPlannedShapes{"sdf"};
 
 // ---------------------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
-// Conservative advancement (seed 4.3.3; Mirtich, "Timewarp Rigid Body Simulation", SIGGRAPH
-// 2000; Zhang, Redon, Lee and Kim, "Continuous Collision Detection for Articulated Models using
-// Taylor Models and Temporal Culling", SIGGRAPH 2007, for the motion bound).
+// Conservative advancement (Mirtich, "Timewarp Rigid Body Simulation", SIGGRAPH 2000; Zhang,
+// Redon, Lee and Kim, "Continuous Collision Detection for Articulated Models using Taylor Models
+// and Temporal Culling", SIGGRAPH 2007, for the motion bound).
 //
 // Two bodies move over s in [0, 1] (collision/ccd/rigid_motion.hpp). At the current time the
 // distance query gives a lower bound d of the distance and the axis n it was measured along.
@@ -9,9 +9,9 @@
 // (linear motion: the centre velocities v are constant; r is the largest distance from the
 // centre of mass to the surface), so the shapes cannot touch before s + d / mu: the time
 // advances by that much and the query repeats. The steps adapt to the gap (never a fixed
-// sampling, pitfall 2) and shrink geometrically as the shapes close. For screw motion, and
-// when the query has no axis, the centre velocities change direction, so mu uses their full
-// speeds instead of the projection.
+// sampling, which can step over a thin contact) and shrink geometrically as the shapes close. For
+// screw motion, and when the query has no axis, the centre velocities change direction, so mu uses
+// their full speeds instead of the projection.
 //
 // The distance callback is any callable `DistanceBound(const Transform& a, const Transform& b)`
 // returning a lower bound (collision/ccd/shape_distance.hpp); GJK plugs in the same way.

@@ -1,12 +1,14 @@
-// Vertex-face and edge-edge continuous collision under linear vertex motion (seed 4.3.4 and
-// exercise 4.3), in two conservative stages.
+// Vertex-face and edge-edge continuous collision under linear vertex motion (Provot, "Collision
+// and self-collision handling in cloth model dedicated to design garments", Graphics Interface
+// 1997; Bridson, Fedkiw and Anderson, "Robust treatment of collisions, contact and friction for
+// cloth animation", SIGGRAPH 2002), in two conservative stages.
 //
 // 1. The coplanarity cubic. A contact needs the four points coplanar: f(t) = det[u, v, w] = 0
-//    with u, v, w differences of the moving vertices (seed 4.3.4's n(t) . (p(t) - a(t)), cubic
-//    in t). Instead of a closed-form root (Cardano is fragile near double roots and useless
-//    when f is identically zero, the coplanar motions of exercise 4.3), f is written in the
-//    Bernstein basis of [0, 1]. Each Bernstein coefficient is a mean of determinants of the
-//    vertex differences at t = 0 and t = 1, so it is computed directly from the input with a
+//    with u, v, w differences of the moving vertices (vertex-face: n(t) . (p(t) - a(t)) with n(t)
+//    the triangle's normal, cubic in t). Instead of a closed-form root (Cardano is fragile near
+//    double roots and useless when f is identically zero, as for coplanar motion), f is written
+//    in the Bernstein basis of [0, 1]. Each Bernstein coefficient is a mean of determinants of
+//    the vertex differences at t = 0 and t = 1, so it is computed directly from the input with a
 //    rounding error bounded a priori. By the convex hull property, f has no root on an
 //    interval where all its coefficients are of one sign beyond that bound; halving by de
 //    Casteljau (each half again a Bernstein form) brackets the roots into a few intervals,

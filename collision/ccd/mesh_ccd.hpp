@@ -1,6 +1,7 @@
-// Exact, conservative continuous collision of mesh features under linear vertex motion
-// (seed 4.3.4): a point against a triangle (vertex-face) and a segment against a segment
-// (edge-edge), each vertex moving on a straight line from its position at t = 0 to t = 1.
+// Exact, conservative continuous collision of mesh features under linear vertex motion (Provot
+// 1997; Bridson, Fedkiw and Anderson 2002; docs/ccd.md): a point against a triangle (vertex-face)
+// and a segment against a segment (edge-edge), each vertex moving on a straight line from its
+// position at t = 0 to t = 1.
 //
 // Conservative: a query that touches at some t in [0, 1] (exact geometry, closed triangle and
 // segments, no minimum separation) always reports a hit, whatever the rounding; a query whose

@@ -1,4 +1,4 @@
-// Rigid motion over a step (seed 4.3.1). The SE(3) exponential and logarithm follow the closed
+// Rigid motion over a step (docs/ccd.md). The SE(3) exponential and logarithm follow the closed
 // forms of Murray, Li and Sastry, "A Mathematical Introduction to Robotic Manipulation", 1994,
 // section 2.3 (Rodrigues' formula and the matrix V of the translational part), with Taylor
 // series below a small angle where the closed forms lose digits.

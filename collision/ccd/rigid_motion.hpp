@@ -1,4 +1,4 @@
-// Rigid motion of a body over one step, parameterised by s in [0, 1] (seed 4.3.1).
+// Rigid motion of a body over one step, parameterised by s in [0, 1] (docs/ccd.md, "Rigid motion").
 //
 // Two interpolations between the poses T0 (s = 0) and T1 (s = 1):
 //   linear: the centre of mass moves on the straight line x(s) = (1 - s) x0 + s x1 and the

@@ -1,4 +1,4 @@
-// The separating-axis theorem extended over time (seed 4.3.2) for two boxes that translate
+// The separating-axis theorem extended over time (docs/ccd.md) for two boxes that translate
 // without turning over s in [0, 1]. Along a fixed axis L the projections of the two boxes are
 // intervals whose centres move linearly, so the set of times at which they overlap on L is one
 // interval found by two divisions; the boxes overlap exactly when they overlap on all 15 axes

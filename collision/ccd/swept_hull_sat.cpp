@@ -1,9 +1,9 @@
 // Time-extended SAT for boxes and convex hulls (collision/ccd/swept_hull_sat.hpp).
 //
 // Sources, and what is ours:
-//   - The time extension of the separating-axis test is seed section 4.3.2; for translating
-//     boxes it is collision/ccd/swept_box_sat.cpp. The seed leaves rotating axes as "a root
-//     problem per axis"; we do not solve those roots.
+//   - The time extension of the separating-axis test for translating boxes is
+//     collision/ccd/swept_box_sat.cpp. With rotation each axis becomes a root problem of
+//     trigonometric functions (swept_box_sat.hpp); we do not solve those roots.
 //   - The axes of two polytopes are the face normals of the Minkowski difference: the face
 //     normals of both and the cross products of the edge pairs whose arcs on the Gauss map cross
 //     (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013). For such a
@@ -12,8 +12,8 @@
 //     axis can only make the test report contact earlier, never miss one, so near-parallel
 //     edge pairs (whose axis is the face normals' anyway) are skipped too.
 //   - With rotation: our own extension, built from interval (Lipschitz) bounds of the gap along a
-//     fixed axis, the bound conservative advancement uses (Mirtich 2000; Zhang et al. 2007; seed
-//     4.3.3), but per axis and tighter. A body turns about a fixed world axis u at rate |w| for
+//     fixed axis, the bound conservative advancement uses (Mirtich 2000; Zhang et al. 2007),
+//     but per axis and tighter. A body turns about a fixed world axis u at rate |w| for
 //     both motion kinds, so a point at distance r from the line through the centre of mass along
 //     u moves, relative to the centre, across u only: along a fixed unit axis n its projection
 //     changes at most at |w| r |n x u|. The centre moves at a constant velocity (linear kind)

@@ -1,6 +1,6 @@
-// The separating-axis theorem extended over time (seed 4.3.2) for convex polytopes: boxes and
-// convex hulls, translating or turning. Our own extension of seed 4.3.2 and of
-// collision/ccd/swept_box_sat.hpp; the pieces it combines are cited in swept_hull_sat.cpp.
+// The separating-axis theorem extended over time (docs/ccd.md) for convex polytopes: boxes and
+// convex hulls, translating or turning. Our own extension of collision/ccd/swept_box_sat.hpp;
+// the pieces it combines are cited in swept_hull_sat.cpp.
 //
 // Candidate axes (both bodies posed at one time): the face normals of A and of B, and the cross
 // products of those edge pairs of A and B that form a face of the Minkowski difference (the

@@ -1,4 +1,4 @@
-// Broad-phase benchmark (issue 4): every tumble structure and Bullet's btDbvtBroadphase and
+// Broad-phase benchmark: every tumble structure and Bullet's btDbvtBroadphase and
 // bt32BitAxisSweep3 in the same binary, on the same boxes, moving coherently each frame. One
 // iteration is one frame: update every box, then find all overlapping pairs.
 //

@@ -1,4 +1,4 @@
-// CCD benchmark (issue 6). Per query kind, on fixed random inputs (seeded):
+// CCD benchmark (docs/ccd.md). Per query kind, on fixed random inputs (seeded):
 //   - conservative advancement on a convex pair (sphere-sphere, box-box, capsule-box) with
 //     rotation, and on translating boxes against the time-extended SAT (same inputs);
 //   - the time-extended SAT for boxes and hulls, translating and turning, against conservative

@@ -1,5 +1,5 @@
-// Narrow-phase benchmark (issue 3): tumble and Bullet (float64 build) in the same binary, on the
-// same precomputed random poses, five comparisons:
+// Narrow-phase benchmark: tumble and Bullet (float64 build) in the same binary, on the same
+// precomputed random poses, five comparisons:
 //   1. box-box manifold: tumble collide(), and the batched collide_box_pairs() over all the poses
 //      at once (also its AVX2 and baseline versions on the deep poses), vs
 //      btBoxBoxDetector::getClosestPoints, on deep random poses and on resting ones;
@@ -77,7 +77,7 @@ std::vector<PosePair> poses(Real low, Real high, Real reach, std::uint64_t seed)
   return out;
 }
 
-// 43 points on an ellipsoid: the hull of the issue's benchmark.
+// 43 points on an ellipsoid: the hull of comparisons 3 and 4 above.
 std::shared_ptr<const ConvexHull> hull43() {
   Rng rng(43);
   std::vector<Vec3> points;

@@ -1,4 +1,4 @@
-// The k-d tree (seed 4.4.3) against brute force, plus its own rules: leaves obey the leaf size and
+// The k-d tree against brute force, plus its own rules: leaves obey the leaf size and
 // the cost rule, straddlers are found and do not cost quadratic work, the rebuild trigger fires
 // when the tree degrades and not under coherent motion, and infinite boxes.
 #include <cmath>

@@ -1,4 +1,4 @@
-// The loose octree (seed 4.4.2) against brute force, plus its own rules: the level a box's size
+// The loose octree against brute force, plus its own rules: the level a box's size
 // implies (Ulrich), pairs across neighbouring cells, a world that grows and shrinks, and
 // infinite boxes.
 #include <cmath>
@@ -26,7 +26,7 @@ TEST(LooseOctree, EqualsBruteForceEveryLayoutK1) {
   check_every_layout(octree(1.0));
 }
 
-// The tight end of the seed's range: a box sits one level higher than with k = 1, and loose
+// The tight end of the range k in [0.5, 1]: a box sits one level higher than with k = 1, and loose
 // bounds of neighbouring cells overlap less.
 TEST(LooseOctree, EqualsBruteForceEveryLayoutKHalf) {
   check_every_layout(octree(0.5), {.bodies = 300, .steps = 120});

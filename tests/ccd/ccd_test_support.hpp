@@ -32,8 +32,8 @@ inline Quat random_rotation(std::mt19937_64& rng) {
   return q.normalized();
 }
 
-// A vertex that slides in the plane of a triangle beside one of its edges: the coplanar motion of
-// exercise 4.3 (seed 4.3.4), as when a mesh vertex slides on a flat floor of triangles. In the
+// A vertex that slides in the plane of a triangle beside one of its edges: coplanar motion, the
+// hard case of vertex-face CCD, as when a mesh vertex slides on a flat floor of triangles. In the
 // triangle's frame the triangle is still and the vertex moves parallel to `edge` (0 = ab,
 // 1 = bc, 2 = ca) from 10% to 90% of its length, `gap` outside it; with `crosses` it ends `gap`
 // inside instead (a contact). The frame is random and translates; with `turns` it also turns by

@@ -6,7 +6,7 @@
 //     moving triangle, or the two segments through one point): all found, no later than that;
 //   - thousands of random queries that stay at least 1 mm apart (checked by dense sampling with
 //     an exact closest-point routine): none reported;
-//   - coplanar and parallel motion (exercise 4.3), touching at t = 0 and t = 1, NaN input;
+//   - coplanar and parallel motion, touching at t = 0 and t = 1, NaN input;
 //   - the work (parameter boxes, MeshCcdResult::boxes, deterministic) of the queries that were
 //     slow: a vertex sliding in a triangle's plane beside or across an edge, the sample's
 //     vertex-face queries, a coplanar contact at t = 0. Speed itself is never timed here.

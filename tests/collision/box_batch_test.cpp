@@ -296,7 +296,7 @@ TEST(BoxBatch, ThePassOrderDoesNotChangeAnAnswer) {
                std::invalid_argument);
 }
 
-// Issue 3's swap rule, for the batch: the pair given as (B, A) gets the opposite normal, the same
+// collide()'s swap rule, for the batch: the pair given as (B, A) gets the opposite normal, the same
 // points (bit for bit) and each feature id with its two sides exchanged.
 TEST(BoxBatch, SwappingTheBoxesFlipsTheNormalAndNothingElse) {
   std::vector<BoxPairQuery> pairs;

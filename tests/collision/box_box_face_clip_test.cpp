@@ -1,4 +1,4 @@
-// Box-box face contacts against the exact overlap polygon (issue 3, the clipper of box_box.cpp).
+// Box-box face contacts against the exact overlap polygon (the clipper of box_box.cpp).
 // Box B rests on A's +z face, turned about A's z axis by an angle (random, or exactly 0, 45 or 90
 // degrees), shifted sideways and sunk by a depth d, sometimes with the same half extents as A
 // (corners then lie exactly on the other face's sides) and sometimes 1e6 m from the origin. The

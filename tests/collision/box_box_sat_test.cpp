@@ -1,4 +1,4 @@
-// Box-box against a brute-force separating-axis test (issue 3, the fast SAT of box_box.cpp).
+// Box-box against a brute-force separating-axis test (the fast SAT of box_box.cpp).
 // For thousands of random poses (fixed seed, TUMBLE_PROPERTY_SCALE scales the count) the test
 // builds the 15 candidate axes in the world frame from the poses, measures each separation from
 // the support maps of the oracle (min over A minus max over B, never box_box's own algebra),

@@ -1,4 +1,4 @@
-// Degenerate fuzz of GJK, EPA and the narrow phase (issue 3): nearly flat and needle hulls,
+// Degenerate fuzz of GJK, EPA and the narrow phase: nearly flat and needle hulls,
 // duplicated points, shapes of 1e-6 m and 1e4 m, bodies 1e6 m from the origin, exactly touching
 // and exactly coincident poses. Every query must end (the iteration caps bound it), return a
 // status from the enum, and give finite numbers with a unit normal. Counts by status are printed.

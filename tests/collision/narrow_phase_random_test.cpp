@@ -277,8 +277,8 @@ TEST(NarrowPhaseRandom, BoxPlaneMatchesSupportMap) {
   run_plane_pair(ShapeType::box, 3000, 109);
 }
 
-// The new shapes (issue 3): hulls against every shape the brute force covers, the exact sphere-
-// cylinder pair, and the plane pairs of cylinder and hull.
+// The hull and cylinder shapes: hulls against every shape the brute force covers, the exact
+// sphere-cylinder pair, and the plane pairs of cylinder and hull.
 TEST(NarrowPhaseRandom, SphereHullMatchesBruteForce) {
   run_bounded_pair(ShapeType::sphere, ShapeType::hull, 1500, 110, {}, 3, 0);
 }

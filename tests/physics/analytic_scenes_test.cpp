@@ -1,4 +1,4 @@
-// Acceptance tests of the shipped scenes against analytic answers (issue 2).
+// Acceptance tests of the shipped scenes against analytic answers.
 #include <gtest/gtest.h>
 
 #include <cmath>

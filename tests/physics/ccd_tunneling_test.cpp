@@ -1,4 +1,4 @@
-// No tunneling, at any speed (issue 6 verification):
+// No tunneling, at any speed (docs/ccd.md, "No tunneling"):
 //   - a sphere of 1 cm diameter at 1000 m/s toward a static wall 1 cm thick, over 1000 random
 //     directions and offsets (the crossing falls anywhere inside a step): its centre never
 //     reaches the wall's far half;

@@ -1,5 +1,6 @@
-// World::teleport drops the warm-start cache of the moved body's pairs (seed 4.5.3, pitfall 7):
-// the step after a teleport is the step a fresh world takes from the same poses and velocities.
+// World::teleport drops the warm-start cache of the moved body's pairs, whose cached contacts
+// belong to the old pose: the step after a teleport is the step a fresh world takes from the same
+// poses and velocities.
 #include <gtest/gtest.h>
 
 #include "engine/world.hpp"
