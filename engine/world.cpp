@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <type_traits>
+#include <utility>
 
 #include "collision/box_axis_cache.hpp"
 #include "collision/broad_phase_factory.hpp"
@@ -17,6 +18,25 @@
 
 namespace tumble {
 namespace {
+
+// The entry of `sorted` (a list sorted by pair) for the pair (a, b), or null. The cursor only
+// moves forward, so candidates visited in pair order find all their entries in one walk.
+template <class Entry>
+const Entry* find_pair(const std::vector<Entry>& sorted, std::size_t& cursor, std::int32_t a,
+                       std::int32_t b) {
+  while (cursor < sorted.size() &&
+         std::pair{sorted[cursor].body_a, sorted[cursor].body_b} < std::pair{a, b})
+    ++cursor;
+  return cursor < sorted.size() && sorted[cursor].body_a == a && sorted[cursor].body_b == b
+             ? &sorted[cursor]
+             : nullptr;
+}
+
+// Drops the entries of `list` whose pair has `body` in it.
+template <class Entry>
+void erase_pairs_of(std::vector<Entry>& list, int body) {
+  std::erase_if(list, [body](const Entry& e) { return e.body_a == body || e.body_b == body; });
+}
 
 // Times one stage of the step, or one phase of the solve stage (which counts toward the stage
 // too). A stage is reported as run once a timer has been made for it, unless the timer is told
@@ -124,17 +144,11 @@ void World::teleport(int body, const Vec3& position, const Quat& orientation) {
   BodyState& b = state_.bodies[std::size_t(body)];
   b.position = position;
   b.orientation = orientation.normalized();
-  std::erase_if(state_.contacts,
-                [body](const CachedManifold& m) { return m.body_a == body || m.body_b == body; });
-  std::erase_if(state_.manifolds, [body](const RecyclableManifold& m) {
-    return m.body_a == body || m.body_b == body;
-  });
-  std::erase_if(state_.box_axes,
-                [body](const CachedBoxAxis& c) { return c.body_a == body || c.body_b == body; });
-  std::erase_if(state_.gjk_caches,
-                [body](const PairGjkCache& c) { return c.body_a == body || c.body_b == body; });
-  std::erase_if(state_.hull_axes,
-                [body](const CachedHullAxis& c) { return c.body_a == body || c.body_b == body; });
+  erase_pairs_of(state_.contacts, body);
+  erase_pairs_of(state_.manifolds, body);
+  erase_pairs_of(state_.box_axes, body);
+  erase_pairs_of(state_.gjk_caches, body);
+  erase_pairs_of(state_.hull_axes, body);
   rebuild_broad_phase();
 }
 
@@ -398,29 +412,20 @@ void World::collide_candidate_pairs() {
   std::int64_t hull_tries = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
-    // Both lists are sorted by pair: walk them together.
-    while (cursor < kept.size() &&
-           (kept[cursor].body_a < pair.a ||
-            (kept[cursor].body_a == pair.a && kept[cursor].body_b < pair.b)))
-      ++cursor;
-    if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] && cursor < kept.size() &&
-        kept[cursor].body_a == pair.a && kept[cursor].body_b == pair.b &&
-        recycle(kept[cursor], shape_poses_[pair.a], shape_poses_[pair.b],
+    // The candidates and every kept list are sorted by pair: one walk finds them all.
+    const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
+    if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] && manifold != nullptr &&
+        recycle(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
                 kRecycleDistance * smaller_radius(pair), kRecycleAngle, candidate_manifolds_[i])) {
-      candidate_kept_[i] = static_cast<std::int32_t>(cursor);
+      candidate_kept_[i] = static_cast<std::int32_t>(manifold - kept.data());
       continue;
     }
     if (is_box_pair(pair)) {
       // The axis that kept the boxes apart last step, if it still does: no contact, and no
       // query (collision/box_axis_cache.hpp).
-      while (axis_cursor < axes.size() &&
-             std::pair{axes[axis_cursor].body_a, axes[axis_cursor].body_b} <
-                 std::pair{pair.a, pair.b})
-        ++axis_cursor;
-      if (axis_cursor < axes.size() && axes[axis_cursor].body_a == pair.a &&
-          axes[axis_cursor].body_b == pair.b) {
+      if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b)) {
         ++axis_tries;
-        const std::uint8_t axis = axes[axis_cursor].axis;
+        const std::uint8_t axis = cached->axis;
         if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
                                bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
                                margin_of(pair))) {
@@ -449,27 +454,16 @@ void World::collide_candidate_pairs() {
       if (bodies[pair.a].shape.type == ShapeType::hull &&
           bodies[pair.b].shape.type == ShapeType::hull) {
         // Last step's separating direction of a hull pair, tried in the query loop below.
-        while (hull_cursor < hull_kept.size() &&
-               std::pair{hull_kept[hull_cursor].body_a, hull_kept[hull_cursor].body_b} <
-                   std::pair{pair.a, pair.b})
-          ++hull_cursor;
-        const bool found = hull_cursor < hull_kept.size() &&
-                           hull_kept[hull_cursor].body_a == pair.a &&
-                           hull_kept[hull_cursor].body_b == pair.b;
+        const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b);
         candidate_is_hull_pair_[i] = 1;
-        candidate_hull_axis_[i] = found ? hull_kept[hull_cursor].axis : HullAxis{};
-        hull_tries += found ? 1 : 0;
+        candidate_hull_axis_[i] = cached != nullptr ? cached->axis : HullAxis{};
+        hull_tries += cached != nullptr ? 1 : 0;
       } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
         // Last step's separating axis of a pair GJK answers, if it has one.
-        while (gjk_cursor < gjk_kept.size() &&
-               std::pair{gjk_kept[gjk_cursor].body_a, gjk_kept[gjk_cursor].body_b} <
-                   std::pair{pair.a, pair.b})
-          ++gjk_cursor;
-        const bool found = gjk_cursor < gjk_kept.size() && gjk_kept[gjk_cursor].body_a == pair.a &&
-                           gjk_kept[gjk_cursor].body_b == pair.b;
+        const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b);
         candidate_uses_gjk_[i] = 1;
-        candidate_gjk_[i] = found ? gjk_kept[gjk_cursor].cache : GjkCache{};
-        gjk_warm += found ? 1 : 0;
+        candidate_gjk_[i] = cached != nullptr ? cached->cache : GjkCache{};
+        gjk_warm += cached != nullptr ? 1 : 0;
       }
       other_candidates_.push_back(static_cast<std::int32_t>(i));
     }

@@ -4,11 +4,11 @@
 // must agree bit for bit at every step, while the cache does skip most of the separated pairs.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <memory>
 
 #include "engine/world.hpp"
 #include "tests/physics/body_builders.hpp"
+#include "tests/physics/cache_dropping_run.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::test {
@@ -37,31 +37,11 @@ std::shared_ptr<const Scene> tumbling_boxes(int per_side, int layers) {
 }
 
 TEST(BoxAxisCacheWorld, DroppingTheCacheChangesNoBit) {
-  const auto scene = tumbling_boxes(5, 4);
-  World cached(scene);
-  World uncached(scene);
-  const int steps = scaled(240);
-  std::int64_t tries = 0, hits = 0;
-  for (int step = 0; step < steps; ++step) {
-    State s = uncached.state();
-    s.box_axes.clear();
-    uncached.set_state(s);
-    cached.step();
-    uncached.step();
-    tries += cached.last_step_statistics().axis_cache_tries;
-    hits += cached.last_step_statistics().axis_cache_hits;
-    ASSERT_EQ(uncached.last_step_statistics().axis_cache_tries, 0);
-    const auto& a = cached.state().bodies;
-    const auto& b = uncached.state().bodies;
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      ASSERT_EQ(std::memcmp(&a[i], &b[i], sizeof(BodyState)), 0)
-          << "body " << i << " differs at step " << step;
-    }
-  }
+  const AxisCacheUse use = expect_same_bits_without_cache(tumbling_boxes(5, 4), scaled(240),
+                                                          [](State& s) { s.box_axes.clear(); });
   // The cache was used, and mostly held.
-  EXPECT_GT(tries, 1000);
-  EXPECT_GT(hits, tries / 2);
+  EXPECT_GT(use.tries, 1000);
+  EXPECT_GT(use.hits, use.tries / 2);
 }
 
 }  // namespace
