@@ -11,7 +11,7 @@
 #include "apps/bullet_bridge.hpp"
 #include "apps/compare_command.hpp"
 #include "apps/number_format.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::app {
@@ -129,7 +129,7 @@ int bench_command(const BenchOptions& options) {
           const int slot = rep % 2 == 0 ? turn : turns - 1 - turn;  // 0 = Bullet
           if (slot > 0) {
             TumbleRuns& runs = tumble[std::size_t(slot - 1)];
-            World world(scene);
+            Simulation world(scene);
             world.set_threads(runs.threads);
             for (std::int64_t k = 1; k <= steps; ++k) {
               const auto t0 = Clock::now();

@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "dynamics/rigid_body.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::app {
 
@@ -87,7 +87,7 @@ class BulletWorld {
   // Pose and velocities of scene body i (the scene's order), tumble's conventions.
   BodyState body(int i) const;
   Real time() const { return time_; }
-  // Totals over the dynamic bodies [J], defined as World's.
+  // Totals over the dynamic bodies [J], defined as Simulation's.
   Real kinetic_energy() const;
   Real potential_energy() const;
   // Points in Bullet's persistent manifolds after the last step (those within the contact

@@ -10,7 +10,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::app {
@@ -18,7 +18,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-CompareSample sample_of(const Scene& scene, const World& world, const BulletWorld& bullet,
+CompareSample sample_of(const Scene& scene, const Simulation& world, const BulletWorld& bullet,
                         std::int64_t tumble_contacts, const std::vector<BodyState>& bullet_bodies,
                         Real max_pos, Real max_rot) {
   CompareSample s;
@@ -45,7 +45,7 @@ CompareSample sample_of(const Scene& scene, const World& world, const BulletWorl
 // Points kept in tumble's manifolds after the step, speculative ones within the contact margin
 // included; Bullet's count (BulletWorld::contact_points) likewise includes its points within the
 // contact breaking threshold.
-std::int64_t tumble_manifold_points(const World& world) {
+std::int64_t tumble_manifold_points(const Simulation& world) {
   std::int64_t n = 0;
   for (const CachedManifold& m : world.state().contacts)
     n += m.count;
@@ -76,7 +76,7 @@ CompareResult compare_scene(const std::shared_ptr<const Scene>& scene, std::int6
   r.chaotic =
       mode == CompareMode::automatic ? scene_is_chaotic(*scene) : mode == CompareMode::statistics;
   r.scene_size = scene_size(*scene);
-  World world(scene);
+  Simulation world(scene);
   BulletWorld bullet(*scene, bullet_settings ? *bullet_settings : matching_bullet_settings(*scene));
   r.mismatches = bullet.mismatches();
   const std::size_t n = scene->bodies.size();

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "apps/bullet_bridge.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::app {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "dynamics/rigid_body.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::app {
 

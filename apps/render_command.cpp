@@ -10,7 +10,7 @@
 
 #include <unistd.h>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 #if TUMBLE_HAS_RENDERER
@@ -177,7 +177,7 @@ int render_command(const RenderOptions& options) {
     }
   } restore{previous_int, previous_term};
 
-  World world(scene);
+  Simulation world(scene);
   std::unique_ptr<render::Renderer> renderer;
   try {
     renderer = std::make_unique<render::Renderer>(*scene, settings);

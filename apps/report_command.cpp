@@ -17,7 +17,7 @@
 #include "apps/compare_command.hpp"
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::app {
@@ -97,7 +97,7 @@ RunResult run(const Scene& base, const Config& c, const std::vector<std::int64_t
   };
   const std::int64_t last = coarse_marks.back() * per;
   if (c.engine == "tumble") {
-    World world(scene);
+    Simulation world(scene);
     std::size_t mark = 0;
     const auto t0 = Clock::now();
     for (std::int64_t k = 1; k <= last; ++k) {

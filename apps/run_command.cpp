@@ -12,7 +12,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/run_summary.hpp"
 #include "apps/trajectory_writer.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::app {
@@ -81,7 +81,7 @@ int run_command(const RunOptions& options) {
   g_interrupted = 0;
   auto previous_int = std::signal(SIGINT, on_interrupt);
   auto previous_term = std::signal(SIGTERM, on_interrupt);
-  World world(scene);
+  Simulation world(scene);
   RunSummary summary(*scene, world, options.scene, steps);
   TrajectoryWriter trajectory(trajectory_path, *scene);
   const auto start = std::chrono::steady_clock::now();

@@ -36,7 +36,7 @@ std::string hash_hex(std::uint64_t hash) {
   return buffer;
 }
 
-RunSummary::RunSummary(const Scene& scene, const World& world,
+RunSummary::RunSummary(const Scene& scene, const Simulation& world,
                        const std::filesystem::path& scene_path, std::int64_t steps)
     : scene_(scene),
       scene_path_(scene_path),
@@ -54,7 +54,7 @@ void RunSummary::add_step(const StepStatistics& step) {
   max_contact_points_ = std::max(max_contact_points_, step.contact_points);
 }
 
-void RunSummary::finish(const World& world, double wall_seconds,
+void RunSummary::finish(const Simulation& world, double wall_seconds,
                         const std::filesystem::path& trajectory) {
   final_kinetic_ = world.kinetic_energy();
   final_potential_ = world.potential_energy();

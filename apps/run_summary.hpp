@@ -5,18 +5,18 @@
 #include <filesystem>
 #include <string>
 
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 #include "engine/step_statistics.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 
 namespace tumble::app {
 
 class RunSummary {
  public:
-  RunSummary(const Scene& scene, const World& world, const std::filesystem::path& scene_path,
+  RunSummary(const Scene& scene, const Simulation& world, const std::filesystem::path& scene_path,
              std::int64_t steps);
   void add_step(const StepStatistics& step);
-  void finish(const World& world, double wall_seconds, const std::filesystem::path& trajectory);
+  void finish(const Simulation& world, double wall_seconds, const std::filesystem::path& trajectory);
   std::string to_json() const;
   std::string final_hash_hex() const;
 

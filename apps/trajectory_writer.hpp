@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "apps/atomic_file.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 #include "engine/state.hpp"
 
 namespace tumble::app {

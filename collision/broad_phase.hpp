@@ -8,23 +8,9 @@
 #include <vector>
 
 #include "collision/aabb.hpp"
+#include "tumble/settings.hpp"
 
 namespace tumble {
-
-// The structures tumble has (docs/broad-phase.md, "The structures"). `automatic` lets the engine
-// choose from the scene's statistics.
-enum class BroadPhaseType : std::uint8_t {
-  automatic,
-  brute,   // all pairs, O(n^2)
-  sap,     // incremental sweep and prune on three axes
-  hash,    // spatial hash
-  bvh,     // dynamic AABB tree
-  lbvh,    // linear BVH from Morton codes, rebuilt every step
-  octree,  // loose octree
-  kdtree,  // k-d tree with SAH splits
-  grid,    // uniform grid
-  hgrid,   // hierarchical grid
-};
 
 // A candidate pair of proxy ids with a < b. Pairs sort by (a, b).
 struct ProxyPair {

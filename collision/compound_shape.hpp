@@ -16,11 +16,6 @@
 
 namespace tumble {
 
-struct CompoundPart {
-  Shape shape;
-  Transform pose;  // the part's frame in the compound's frame
-};
-
 struct CompoundError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };

@@ -1,28 +1,10 @@
-// Scalar and geometry aliases used by every part of tumble. The whole engine computes in one
-// scalar type, `Real`, so that a change of precision is a change of one line.
+// Small geometry helpers every part of tumble shares, on the public aliases of
+// include/tumble/math.hpp.
 #pragma once
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
+#include "tumble/math.hpp"
 
 namespace tumble {
-
-using Real = double;
-using Vec3 = Eigen::Matrix<Real, 3, 1>;
-using Mat3 = Eigen::Matrix<Real, 3, 3>;
-using Quat = Eigen::Quaternion<Real>;
-
-// A rigid transform: p_world = rotation * p_local + translation. Beware `Transform{t, {}}`:
-// Eigen's default quaternion constructor leaves it uninitialised; write Quat::Identity().
-struct Transform {
-  Vec3 translation = Vec3::Zero();
-  Quat rotation = Quat::Identity();
-
-  Vec3 apply(const Vec3& p) const { return rotation * p + translation; }
-  Vec3 apply_inverse(const Vec3& p) const { return rotation.conjugate() * (p - translation); }
-  Vec3 rotate(const Vec3& v) const { return rotation * v; }
-  Vec3 rotate_inverse(const Vec3& v) const { return rotation.conjugate() * v; }
-};
 
 inline Mat3 skew(const Vec3& v) {
   Mat3 m;

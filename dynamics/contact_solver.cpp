@@ -188,8 +188,12 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
 }
 
 void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
-                         std::span<const ContactSolverSettings> group_settings) {
+                         std::span<const ContactSolverSettings> group_settings,
+                         std::span<const std::uint8_t> kinematic) {
   const std::size_t group_count = group_settings.size();
+  const auto moving = [&](std::int32_t body) {
+    return std::size_t(body) < kinematic.size() && kinematic[std::size_t(body)] != 0;
+  };
   groups_.assign(group_count, Group{});
   pending_separations_group_ = -1;
   runs_.clear();
@@ -208,11 +212,13 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
     // Slots of the group's moving bodies, in order of first appearance in its pairs.
     group_records_.clear();
     group.slot_begin = static_cast<std::int32_t>(body_of_slot_.size());
-    const auto slot_of = [&](std::int32_t body, Real inverse_mass) {
-      if (inverse_mass == 0)
+    const auto slot_of = [&](std::int32_t body, Real inverse_mass, bool moves) {
+      if (inverse_mass == 0 && !moves)
         return std::int32_t(0);
+      // A slot from an earlier group belongs to a body of infinite mass that moves (kinematic):
+      // each group tracks that body's motion through its own substeps, in a slot of its own.
       std::int32_t& slot = slot_of_body_[std::size_t(body)];
-      if (slot < 0) {
+      if (slot < group.slot_begin) {
         slot = static_cast<std::int32_t>(body_of_slot_.size());
         body_of_slot_.push_back(body);
       }
@@ -222,8 +228,8 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
       if (group_of_contact[c] != std::int32_t(g))
         continue;
       ManifoldRecord& m = records_[c];
-      m.slot_a = slot_of(m.body_a, m.inv_mass_a);
-      m.slot_b = slot_of(m.body_b, m.inv_mass_b);
+      m.slot_a = slot_of(m.body_a, m.inv_mass_a, moving(m.body_a));
+      m.slot_b = slot_of(m.body_b, m.inv_mass_b, moving(m.body_b));
       for (int k = 0; k < m.count; ++k) {
         PointRecord& p = m.points[std::size_t(k)];
         p.normal_impulse *= per_substep;

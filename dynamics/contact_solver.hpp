@@ -96,9 +96,11 @@ class ContactSolver {
   std::span<const ContactLoad> contact_loads() const { return loads_; }
   // Second half: contact c is solved in group group_of_contact[c], with the substeps and
   // stiffness of group_settings[that group]; each group's pairs are coloured and packed into
-  // vector lanes. Groups must not share a moving body.
+  // vector lanes. Groups must not share a moving body, except bodies of infinite mass that move
+  // (`kinematic`, one flag per body, may be empty): each group gives them a slot of their own.
   void pack(std::span<const std::int32_t> group_of_contact,
-            std::span<const ContactSolverSettings> group_settings);
+            std::span<const ContactSolverSettings> group_settings,
+            std::span<const std::uint8_t> kinematic = {});
   // Both halves, every contact in one group.
   void prepare(std::span<const PairContact> contacts, std::span<const CachedManifold> previous,
                std::span<const BodyState> bodies, std::span<const BodyMass> masses,
@@ -183,7 +185,7 @@ class ContactSolver {
     Vec3 tangent1 = Vec3::UnitX();
     Vec3 tangent2 = Vec3::UnitY();
     Real inv_mass_a = 0, inv_mass_b = 0;
-    // World inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
+    // Simulation inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
     std::array<Real, 6> inv_inertia_a{}, inv_inertia_b{};
     Real friction = 0, restitution = 0;
     // J M^-1 J^T over the normal rows, lower triangle packed row by row: (0,0), (1,0), (1,1),

@@ -3,16 +3,9 @@
 #pragma once
 
 #include "collision/math.hpp"
+#include "tumble/body_state.hpp"
 
 namespace tumble {
-
-// Pose and velocity of one body, world frame. `position` is the centre of mass.
-struct BodyState {
-  Vec3 position = Vec3::Zero();          // m
-  Quat orientation = Quat::Identity();   // unit, body to world
-  Vec3 velocity = Vec3::Zero();          // m/s
-  Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
-};
 
 // Inverse mass properties; static bodies have all zeros, so the solver treats every body alike.
 struct BodyMass {
@@ -27,7 +20,7 @@ struct BodyMass {
 // Kinetic energy, translational plus rotational [J].
 Real kinetic_energy(const BodyState& state, const BodyMass& mass);
 
-// World-frame angular momentum about the centre of mass [kg m^2/s].
+// Simulation-frame angular momentum about the centre of mass [kg m^2/s].
 Vec3 angular_momentum(const BodyState& state, const BodyMass& mass);
 
 }  // namespace tumble

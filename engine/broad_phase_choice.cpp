@@ -1,5 +1,7 @@
 #include "engine/broad_phase_choice.hpp"
 
+#include "collision/shape.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>

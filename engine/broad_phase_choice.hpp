@@ -3,7 +3,7 @@
 #pragma once
 
 #include "collision/broad_phase.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble {
 

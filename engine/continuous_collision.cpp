@@ -106,12 +106,13 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   }
 }
 
-ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
+ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
                                                    const std::vector<Transform>& start,
                                                    const BroadPhase& broad_phase,
                                                    std::vector<BodyState>& bodies,
                                                    std::span<const BodyMass> masses,
                                                    const ParallelRunner& runner) {
+  const Scene& scene = model.scene();
   ContinuousCollisionCounts counts;
   const std::size_t n = bodies.size();
   const CcdMode mode = scene.world.ccd;
@@ -132,7 +133,9 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     motions_[i] = step_motion(start[i], bodies[i], scene.world.dt);
     const RigidMotion& m = motions_[i];
     const Real travel = m.centre_speed() + m.angular_velocity().norm() * radius_[i];
-    if (mode != CcdMode::off &&
+    // A kinematic body moves where it is told: it is an obstacle to the swept bodies, never
+    // stopped itself.
+    if (mode != CcdMode::off && !d.kinematic &&
         (mode == CcdMode::on || d.fast || travel > kAutoSweepFraction * thickness_[i])) {
       swept_[i] = 1;
       swept_list_.push_back(static_cast<std::int32_t>(i));
@@ -218,7 +221,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Scene& scene,
     if (swept_[std::size_t(t.b)])
       record_hit(t.b, t.a, t.time, -t.normal);
   }
-  stop_at_earliest_times(scene, bodies, masses, counts);
+  stop_at_earliest_times(model, bodies, masses, counts);
   return counts;
 }
 
@@ -255,7 +258,7 @@ void ContinuousCollision::record_hit(std::int32_t body, std::int32_t partner, Re
   }
 }
 
-void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
+void ContinuousCollision::stop_at_earliest_times(const Model& model, std::vector<BodyState>& bodies,
                                                  std::span<const BodyMass> masses,
                                                  ContinuousCollisionCounts& counts) const {
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -277,9 +280,8 @@ void ContinuousCollision::stop_at_earliest_times(const Scene& scene, std::vector
     if (!(approach < 0) || im_i + im_j == 0)
       continue;
     const Real restitution =
-        -approach > scene.world.restitution_threshold
-            ? combined_restitution(scene.materials[std::size_t(scene.bodies[i].material)],
-                                   scene.materials[std::size_t(scene.bodies[j].material)])
+        -approach > model.scene().world.restitution_threshold
+            ? model.restitution(model.scene().bodies[i].material, model.scene().bodies[j].material)
             : Real(0);
     const Real impulse = -(1 + restitution) * approach / (im_i + im_j);
     bodies[i].velocity += n * (impulse * im_i);

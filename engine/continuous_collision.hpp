@@ -5,7 +5,7 @@
 // another is stopped at the first time of impact.
 //
 // Which pairs are tested: only swept bodies pay for sweeps. The discrete broad phase holds every
-// body's box at the start of the step, grown by at most the sweep threshold below (World's
+// body's box at the start of the step, grown by at most the sweep threshold below (Simulation's
 // bounds stage caps the speculative growth there, so a fast body does not pair with everything
 // along its path). The sweep finds its pairs from boxes over each body's actual motion (start
 // to end of the step): with many swept bodies one sort and sweep of all bodies' motion boxes;
@@ -38,7 +38,8 @@
 #include "collision/broad_phase.hpp"
 #include "collision/ccd/rigid_motion.hpp"
 #include "dynamics/rigid_body.hpp"
-#include "engine/scene.hpp"
+#include "engine/model.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble {
 
@@ -73,7 +74,7 @@ class ContinuousCollision {
   // at the start of the step (grown by the bounds stage), `masses` each body's (for the impact
   // at a stop). Allocates nothing once warmed up.
   // The time-of-impact queries run on `runner`'s threads (the same results on any count).
-  ContinuousCollisionCounts run(const Scene& scene, const std::vector<Transform>& start,
+  ContinuousCollisionCounts run(const Model& model, const std::vector<Transform>& start,
                                 const BroadPhase& broad_phase, std::vector<BodyState>& bodies,
                                 std::span<const BodyMass> masses, const ParallelRunner& runner);
 
@@ -100,7 +101,7 @@ class ContinuousCollision {
   void add_pair(std::int32_t ia, std::int32_t ib, ContinuousCollisionCounts& counts);
   void test_pair(const Scene& scene, PairTest& test) const;
   void sort_and_sweep(ContinuousCollisionCounts& counts);
-  void stop_at_earliest_times(const Scene& scene, std::vector<BodyState>& bodies,
+  void stop_at_earliest_times(const Model& model, std::vector<BodyState>& bodies,
                               std::span<const BodyMass> masses,
                               ContinuousCollisionCounts& counts) const;
   void record_hit(std::int32_t body, std::int32_t partner, Real time, const Vec3& normal);

@@ -1,4 +1,4 @@
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble {
 

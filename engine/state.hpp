@@ -11,7 +11,7 @@
 #include "collision/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble {
 

@@ -1,931 +1,338 @@
-#include "engine/world.hpp"
+// tumble::World (include/tumble/world.hpp): checks every call's ids and values, then hands it to
+// the Simulation behind it.
+#include "tumble/world.hpp"
 
-#include <chrono>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
-#include <numbers>
-#include <type_traits>
+#include <string>
 #include <utility>
 
-#include "collision/box_axis_cache.hpp"
-#include "collision/broad_phase_factory.hpp"
-#include "collision/manifold_recycling.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/pairs.hpp"
-#include "collision/sphere_batch.hpp"
-#include "engine/broad_phase_choice.hpp"
+#include "engine/model.hpp"
+#include "engine/scene_check.hpp"
+#include "engine/simulation.hpp"
+#include "tumble/error.hpp"
 
 namespace tumble {
 namespace {
 
-// The entry of `sorted` (a list sorted by pair) for the pair (a, b), or null. The cursor only
-// moves forward, so candidates visited in pair order find all their entries in one walk.
-template <class Entry>
-const Entry* find_pair(const std::vector<Entry>& sorted, std::size_t& cursor, std::int32_t a,
-                       std::int32_t b) {
-  while (cursor < sorted.size() &&
-         std::pair{sorted[cursor].body_a, sorted[cursor].body_b} < std::pair{a, b})
-    ++cursor;
-  return cursor < sorted.size() && sorted[cursor].body_a == a && sorted[cursor].body_b == b
-             ? &sorted[cursor]
-             : nullptr;
+std::string number_text(Real v) {
+  if (std::isnan(v))
+    return "nan";
+  if (std::isinf(v))
+    return v > 0 ? "inf" : "-inf";
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, result.ptr);
 }
 
-// Drops the entries of `list` whose pair has `body` in it.
-template <class Entry>
-void erase_pairs_of(std::vector<Entry>& list, int body) {
-  std::erase_if(list, [body](const Entry& e) { return e.body_a == body || e.body_b == body; });
+std::string vector_text(const Vec3& v) {
+  return "(" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + ")";
 }
 
-// Times one stage of the step, or one phase of the solve stage (which counts toward the stage
-// too). A stage is reported as run once a timer has been made for it, unless the timer is told
-// that the stage had nothing to do.
-class StageTimer {
- public:
-  StageTimer(StepStatistics& stats, Stage stage)
-      : stats_(stats), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {
-    stats_.ran[std::size_t(stage_)] = true;
-  }
-  StageTimer(StepStatistics& stats, SolvePhase phase) : StageTimer(stats, Stage::solve) {
-    phase_ = static_cast<int>(phase);
-  }
-  ~StageTimer() {
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    stats_.seconds[std::size_t(stage_)] += seconds;
-    if (phase_ >= 0)
-      stats_.solve_phase_seconds[std::size_t(phase_)] += seconds;
-  }
-  StageTimer(const StageTimer&) = delete;
-  StageTimer& operator=(const StageTimer&) = delete;
-  // The stage's time still counts, but it is not reported as run (for this step).
-  void had_nothing_to_do(bool ran_before) { stats_.ran[std::size_t(stage_)] = ran_before; }
-
- private:
-  StepStatistics& stats_;
-  int stage_;
-  int phase_ = -1;
-  std::chrono::steady_clock::time_point start_;
-};
-
-// Work per chunk on the runner's threads: enough that a chunk outweighs handing it over.
-constexpr std::int32_t kBodiesPerChunk = 128;
-constexpr std::int32_t kPairsPerChunk = 32;
-constexpr std::int32_t kBoxPairsPerChunk = 128;
-
-Transform pose_of(const BodyState& b) {
-  return {b.position, b.orientation};
-}
+// Forces, impulses and velocities beyond these are typos or blow-ups, not physics; they would
+// overflow a step long before they meant anything.
+constexpr Real kMaxLoad = 1e15;  // N, N m, N s
+constexpr Real kMaxSpeed = 1e6;  // m/s, rad/s
+constexpr Real kMaxCoordinate = 1e9;
 
 }  // namespace
 
-World::World(std::shared_ptr<const Scene> scene)
-    : scene_(std::move(scene)), runner_(std::make_unique<ParallelRunner>(scene_->world.threads)) {
-  solver_.set_runner(runner_.get());
-  const std::size_t n = scene_->bodies.size();
-  masses_.reserve(n);
-  bounding_radii_.reserve(n);
-  for (const BodyDesc& d : scene_->bodies) {
-    masses_.push_back(BodyMass::make(d.mass, d.inertia, d.is_static));
-    bounding_radii_.push_back(d.shape.is_bounded() ? bounding_radius(d.shape) : Real(0));
-    // Contact points on a curved surface (sphere, capsule, cylinder; compounds may have them)
-    // slide over it as the body turns, so a point carried rigidly with the body would lag: only
-    // pairs of flat-faced shapes recycle their manifolds.
-    const ShapeType t = d.shape.type;
-    flat_shape_.push_back(t == ShapeType::box || t == ShapeType::plane || t == ShapeType::hull ||
-                          t == ShapeType::mesh);
+World::World(std::shared_ptr<const Scene> scene) : World(compile(std::move(scene))) {}
+
+World::World(std::shared_ptr<const Model> model) {
+  if (!model)
+    throw Error("tumble::World: the model is null");
+  simulation_ = std::make_unique<Simulation>(std::move(model));
+  generation_.assign(simulation_->scene().bodies.size(), 0);
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+const Scene& World::scene() const {
+  return simulation_->scene();
+}
+
+std::int32_t World::checked(BodyId id) const {
+  if (!is_valid(id)) {
+    const bool in_range = id.index >= 0 && std::size_t(id.index) < generation_.size();
+    throw Error("tumble::World: body id {" + std::to_string(id.index) + ", " +
+                std::to_string(id.generation) + "} " +
+                (in_range ? "names a body that was removed" : "is not a body of this world"));
   }
-  carries_.resize(n);
-  speculative_margin_.resize(n);
-  // At most one group per doubling of the substeps (a count is a power of two times the base,
-  // at most 1000): room for all of them now, so that a new group never allocates mid-run.
-  constexpr std::size_t kMostGroups = 11;
-  group_settings_.reserve(kMostGroups);
-  group_body_start_.reserve(kMostGroups + 1);
-  group_fill_.reserve(kMostGroups + 1);
-  shape_poses_.resize(n);
-  broad_phase_type_ = choose_broad_phase(scene_->world.broadphase, *scene_);
-  penalty_substeps_ = std::max(1, scene_->world.substeps);
-  if (scene_->world.solver == SolverType::penalty) {
-    Real stiffest = 0;
-    for (const Material& m : scene_->materials)
-      stiffest = std::max(stiffest, m.stiffness);
-    Real lightest = 0;
-    for (const BodyMass& m : masses_)
-      lightest = std::max(lightest, m.inverse_mass);
-    // omega = sqrt(k / m); explicit symplectic Euler needs h omega < 2.
-    const Real omega = std::sqrt(stiffest * lightest);
-    const Real wanted = std::ceil(scene_->world.dt * omega / 2);
-    if (wanted > penalty_substeps_)
-      penalty_substeps_ = static_cast<int>(std::min<Real>(wanted, kMaxPenaltySubsteps));
+  return id.index;
+}
+
+std::int32_t World::checked_dynamic(BodyId id, std::string_view call) const {
+  const std::int32_t i = checked(id);
+  if (simulation_->model().is_fixed(std::size_t(i)))
+    throw Error("tumble::World::" + std::string(call) + ": body '" + name(id) + "' is " +
+                (simulation_->model().is_kinematic(std::size_t(i)) ? "kinematic" : "static") +
+                "; only dynamic bodies take forces and impulses");
+  return i;
+}
+
+bool World::is_valid(BodyId id) const {
+  return id.index >= 0 && std::size_t(id.index) < generation_.size() &&
+         generation_[std::size_t(id.index)] == id.generation &&
+         !simulation_->model().is_removed(std::size_t(id.index));
+}
+
+BodyId World::body(std::string_view name) const {
+  if (const std::optional<BodyId> id = find_body(name))
+    return *id;
+  throw Error("tumble::World::body: no body is named '" + std::string(name) + "'");
+}
+
+std::optional<BodyId> World::find_body(std::string_view name) const {
+  if (name.empty())
+    return std::nullopt;
+  const int i = simulation_->scene().find_body(name);
+  if (i < 0 || simulation_->model().is_removed(std::size_t(i)))
+    return std::nullopt;
+  return BodyId{i, generation_[std::size_t(i)]};
+}
+
+const std::string& World::name(BodyId id) const {
+  return simulation_->scene().bodies[std::size_t(checked(id))].name;
+}
+
+std::vector<BodyId> World::bodies() const {
+  std::vector<BodyId> ids;
+  for (std::size_t i = 0; i < generation_.size(); ++i) {
+    if (!simulation_->model().is_removed(i))
+      ids.push_back({static_cast<std::int32_t>(i), generation_[i]});
   }
-  if (auto ccd = std::make_unique<ContinuousCollision>(*scene_); ccd->enabled())
-    continuous_ = std::move(ccd);
-  set_state(initial_state(*scene_));
+  return ids;
+}
+
+int World::body_count() const {
+  return static_cast<int>(generation_.size() - simulation_->model().removed_count());
+}
+
+BodyId World::add_body(const BodyDesc& desc) {
+  const Scene& scene = simulation_->scene();
+  std::size_t slot = scene.bodies.size();
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (simulation_->model().is_removed(i)) {
+      slot = i;
+      break;
+    }
+  }
+  check_body(scene, desc, slot);
+  if (!desc.name.empty() && find_body(desc.name))
+    throw SceneError(scene.source.empty() ? "scene" : scene.source, 0, 0,
+                     "bodies[" + std::to_string(slot) + "].name",
+                     "duplicate body name '" + desc.name + "'");
+  const int added = simulation_->add_body(desc);
+  if (std::size_t(added) >= generation_.size())
+    generation_.resize(std::size_t(added) + 1, 0);
+  reports_step_ = -1;
+  return {added, generation_[std::size_t(added)]};
+}
+
+void World::remove_body(BodyId id) {
+  const std::int32_t i = checked(id);
+  simulation_->remove_body(i);
+  ++generation_[std::size_t(i)];
+  reports_step_ = -1;
+}
+
+void World::add_force(BodyId id, const Vec3& force) {
+  const std::int32_t i = checked_dynamic(id, "add_force");
+  if (!(force.allFinite() && force.cwiseAbs().maxCoeff() <= kMaxLoad))
+    throw Error("tumble::World::add_force: body '" + name(id) + "': force " + vector_text(force) +
+                " N is not finite or beyond 1e15");
+  simulation_->add_force(i, force);
+}
+
+void World::add_torque(BodyId id, const Vec3& torque) {
+  const std::int32_t i = checked_dynamic(id, "add_torque");
+  if (!(torque.allFinite() && torque.cwiseAbs().maxCoeff() <= kMaxLoad))
+    throw Error("tumble::World::add_torque: body '" + name(id) + "': torque " +
+                vector_text(torque) + " N m is not finite or beyond 1e15");
+  simulation_->add_torque(i, torque);
+}
+
+void World::add_force_at(BodyId id, const Vec3& force, const Vec3& world_point) {
+  const std::int32_t i = checked_dynamic(id, "add_force_at");
+  if (!(force.allFinite() && force.cwiseAbs().maxCoeff() <= kMaxLoad))
+    throw Error("tumble::World::add_force_at: body '" + name(id) + "': force " +
+                vector_text(force) + " N is not finite or beyond 1e15");
+  if (!(world_point.allFinite() && world_point.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    throw Error("tumble::World::add_force_at: body '" + name(id) + "': point " +
+                vector_text(world_point) + " m is not finite or beyond 1e9");
+  const Vec3 lever = world_point - simulation_->state().bodies[std::size_t(i)].position;
+  simulation_->add_force(i, force);
+  simulation_->add_torque(i, lever.cross(force));
+}
+
+void World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& world_point) {
+  const std::int32_t i = checked_dynamic(id, "apply_impulse");
+  if (!(impulse.allFinite() && impulse.cwiseAbs().maxCoeff() <= kMaxLoad))
+    throw Error("tumble::World::apply_impulse: body '" + name(id) + "': impulse " +
+                vector_text(impulse) + " N s is not finite or beyond 1e15");
+  if (!(world_point.allFinite() && world_point.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    throw Error("tumble::World::apply_impulse: body '" + name(id) + "': point " +
+                vector_text(world_point) + " m is not finite or beyond 1e9");
+  simulation_->apply_impulse(i, impulse, world_point);
+}
+
+void World::set_velocity(BodyId id, const Vec3& linear, const Vec3& angular) {
+  const std::int32_t i = checked(id);
+  if (simulation_->scene().bodies[std::size_t(i)].is_static)
+    throw Error("tumble::World::set_velocity: body '" + name(id) +
+                "' is static; make it kinematic to move it");
+  if (!(linear.allFinite() && linear.cwiseAbs().maxCoeff() <= kMaxSpeed))
+    throw Error("tumble::World::set_velocity: body '" + name(id) + "': velocity " +
+                vector_text(linear) + " m/s is not finite or beyond 1e6");
+  if (!(angular.allFinite() && angular.cwiseAbs().maxCoeff() <= kMaxSpeed))
+    throw Error("tumble::World::set_velocity: body '" + name(id) + "': angular velocity " +
+                vector_text(angular) + " rad/s is not finite or beyond 1e6");
+  simulation_->set_velocity(i, linear, angular);
+}
+
+void World::set_pose(BodyId id, const Vec3& position, const Quat& orientation) {
+  const std::int32_t i = checked(id);
+  if (!(position.allFinite() && position.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    throw Error("tumble::World::set_pose: body '" + name(id) + "': position " +
+                vector_text(position) + " m is not finite or beyond 1e9");
+  if (!(orientation.coeffs().allFinite() && orientation.norm() > 1e-9))
+    throw Error("tumble::World::set_pose: body '" + name(id) +
+                "': the orientation is not a finite, non-zero quaternion");
+  simulation_->teleport(i, position, orientation);
+}
+
+void World::set_kinematic_target(BodyId id, const Vec3& position, const Quat& orientation) {
+  const std::int32_t i = checked(id);
+  if (!simulation_->model().is_kinematic(std::size_t(i)))
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "' is " +
+                (simulation_->scene().bodies[std::size_t(i)].is_static ? "static" : "dynamic") +
+                ", not kinematic (kinematic: true in the scene, or BodyDesc::kinematic)");
+  if (!(position.allFinite() && position.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': position " +
+                vector_text(position) + " m is not finite or beyond 1e9");
+  if (!(orientation.coeffs().allFinite() && orientation.norm() > 1e-9))
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) +
+                "': the orientation is not a finite, non-zero quaternion");
+  // The speed that reaches the target in one step must be one the engine accepts.
+  const Real dt = simulation_->scene().world.dt;
+  const Vec3 travel = position - simulation_->state().bodies[std::size_t(i)].position;
+  if (!(travel.norm() / dt <= kMaxSpeed))
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': the target " +
+                vector_text(position) + " is " + number_text(travel.norm()) +
+                " m away, more than 1e6 m/s over one step");
+  simulation_->set_kinematic_target(i, position, orientation);
+}
+
+void World::step() {
+  simulation_->step();
+}
+
+void World::step(int n) {
+  if (n < 0)
+    throw Error("tumble::World::step: the step count " + std::to_string(n) + " is negative");
+  for (int k = 0; k < n; ++k)
+    simulation_->step();
+}
+
+void World::reset() {
+  simulation_->reset();
+  reports_step_ = -1;
 }
 
 void World::set_threads(int threads) {
-  runner_ = std::make_unique<ParallelRunner>(threads);
-  solver_.set_runner(runner_.get());
+  if (threads > 1024)
+    throw Error("tumble::World::set_threads: " + std::to_string(threads) +
+                " threads; at most 1024");
+  simulation_->set_threads(threads);
 }
 
-void World::set_state(const State& state) {
-  state_ = state;
-  // A state made by hand may leave the sleep records out: nothing sleeps then.
-  state_.slow_time.resize(state_.bodies.size(), 0);
-  state_.asleep.resize(state_.bodies.size(), 0);
-  state_.substep_level.resize(state_.bodies.size(), 0);
-  state_.substep_hold.resize(state_.bodies.size(), 0);
-  rebuild_broad_phase();
+int World::threads() const {
+  return simulation_->threads();
 }
 
-void World::teleport(int body, const Vec3& position, const Quat& orientation) {
-  BodyState& b = state_.bodies[std::size_t(body)];
-  b.position = position;
-  b.orientation = orientation.normalized();
-  erase_pairs_of(state_.contacts, body);
-  erase_pairs_of(state_.manifolds, body);
-  erase_pairs_of(state_.box_axes, body);
-  erase_pairs_of(state_.gjk_caches, body);
-  erase_pairs_of(state_.hull_axes, body);
-  rebuild_broad_phase();
+BodyState World::body_state(BodyId id) const {
+  return simulation_->state().bodies[std::size_t(checked(id))];
 }
 
-void World::rebuild_broad_phase() {
-  broad_phase_ = make_broad_phase(broad_phase_type_);
-  for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {
-    const BodyDesc& d = scene_->bodies[i];
-    broad_phase_->insert(static_cast<std::int32_t>(i),
-                         world_aabb(d.shape, pose_of(state_.bodies[i])), d.is_static);
-  }
+Real World::time() const {
+  return simulation_->state().time;
 }
 
-// One step, as docs/architecture.md tells it, for both solvers. Collision runs once; the solver
-// then runs, group of islands by group, substeps of velocity integration, warm start and soft
-// passes, position integration, relax passes and restitution (the soft step; the penalty solver
-// iterates its springs instead and has no relax); continuous collision then stops fast bodies at
-// their first time of impact (engine/continuous_collision.hpp), and the impulses are kept for
-// the next step.
-void World::step() {
-  const std::int64_t split_before = runner_->split_loops();
-  runner_->run([this] { step_on_runner(); });
-  last_step_.split_loops = runner_->split_loops() - split_before;
+std::int64_t World::step_count() const {
+  return simulation_->state().step;
 }
 
-void World::step_on_runner() {
-  current_ = StepStatistics{};
-  const WorldSettings& w = scene_->world;
-  update_bounds(w.dt);
-  find_candidate_pairs();
-  collide_candidate_pairs();
-  wake_touched_islands();
-  prepare_contacts();
-  for (int g = 0; g < static_cast<int>(group_settings_.size()); ++g) {
-    const ContactSolverSettings& group = group_settings_[std::size_t(g)];
-    for (int s = 0; s < group.substeps; ++s) {
-      integrate_velocities(g, group.substep);
-      solve_contacts(g);
-      integrate_positions(g, group.substep);
-      relax_contacts(g);
-    }
-  }
-  sweep_fast_bodies();
-  finish_contacts();
-  update_sleep(w.dt);
-
-  state_.step += 1;
-  // Time is counted in steps, not summed, so that it does not drift by rounding.
-  state_.time = static_cast<Real>(state_.step) * w.dt;
-  last_step_ = current_;
-}
-
-// Islands of this step's contact graph (static bodies excluded). An island with one awake body
-// wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, so a
-// sleeping island costs collision only. Their warm-start impulses are dropped: a woken island
-// restarts its impulses from zero.
-void World::wake_touched_islands() {
-  if (!scene_->world.sleeping)
+// The reports of the last step, built on first request: each touching pair's manifold with the
+// impulses the solver kept for it (both lists are sorted by pair).
+void World::refresh_reports() const {
+  const std::int64_t step = simulation_->state().step;
+  if (reports_step_ == step)
     return;
-  StageTimer timer(current_, SolvePhase::islands_and_sleep);
-  const std::size_t n = state_.bodies.size();
-  const auto& bodies = scene_->bodies;
-  islands_.reset(n);
-  for (const PairContact& pc : contacts_) {
-    if (!bodies[pc.body_a].is_static && !bodies[pc.body_b].is_static)
-      islands_.join(pc.body_a, pc.body_b);
-  }
-  island_awake_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!bodies[i].is_static && state_.asleep[i] == 0)
-      island_awake_[islands_.root(static_cast<std::int32_t>(i))] = 1;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (state_.asleep[i] != 0 && island_awake_[islands_.root(static_cast<std::int32_t>(i))]) {
-      state_.asleep[i] = 0;
-      state_.slow_time[i] = 0;
-    }
-  }
-  const auto inactive = [&](std::int32_t b) {
-    return bodies[b].is_static || state_.asleep[b] != 0;
-  };
-  std::size_t kept = 0;
-  for (std::size_t c = 0; c < contacts_.size(); ++c) {
-    if (inactive(contacts_[c].body_a) && inactive(contacts_[c].body_b))
-      continue;
-    contacts_[kept] = contacts_[c];
-    penalty_springs_[kept] = penalty_springs_[c];
-    ++kept;
-  }
-  contacts_.resize(kept);
-  penalty_springs_.resize(kept);
-}
-
-// A body is slow when |v| + |w| r is below the sleep speed; an island whose bodies have all
-// been slow for the sleep time falls asleep at rest.
-void World::update_sleep(Real dt) {
-  const WorldSettings& w = scene_->world;
-  if (!w.sleeping)
-    return;
-  StageTimer timer(current_, SolvePhase::islands_and_sleep);
-  const std::size_t n = state_.bodies.size();
-  const auto& bodies = scene_->bodies;
-  island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (bodies[i].is_static || state_.asleep[i] != 0)
-      continue;
-    const BodyState& b = state_.bodies[i];
-    const Real speed = b.velocity.norm() + b.angular_velocity.norm() * bounding_radii_[i];
-    state_.slow_time[i] = speed < w.sleep_speed ? state_.slow_time[i] + dt : Real(0);
-    Real& least = island_slow_time_[islands_.root(static_cast<std::int32_t>(i))];
-    least = std::min(least, state_.slow_time[i]);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (bodies[i].is_static || state_.asleep[i] != 0)
-      continue;
-    if (island_slow_time_[islands_.root(static_cast<std::int32_t>(i))] >= w.sleep_time) {
-      state_.asleep[i] = 1;
-      state_.bodies[i].velocity.setZero();
-      state_.bodies[i].angular_velocity.setZero();
-    }
-  }
-}
-
-// Fast bodies are swept from their pose at the start of the step (shape_poses_, set by
-// update_bounds) to where the solver put them; the stage is reported as run only in steps where a
-// swept body had a candidate to be tested against.
-void World::sweep_fast_bodies() {
-  if (!continuous_)
-    return;
-  const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
-  StageTimer timer(current_, Stage::continuous);
-  const ContinuousCollisionCounts counts =
-      continuous_->run(*scene_, shape_poses_, *broad_phase_, state_.bodies, masses_, *runner_);
-  current_.swept_bodies += counts.swept_bodies;
-  current_.ccd_candidate_pairs += counts.candidate_pairs;
-  current_.stopped_bodies += counts.stopped_bodies;
-  if (counts.toi_queries == 0)
-    timer.had_nothing_to_do(ran_before);  // nothing near a swept body: no sweep was needed
-}
-
-void World::integrate_velocities(int group, Real h) {
-  StageTimer timer(current_, Stage::integrate_velocities);
-  const Vec3 g = scene_->world.gravity;
-  for_each_awake_body(group, [&](std::size_t i) {
-    integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
-  });
-}
-
-// Calls update(i) for every awake body i of substep group `group`, in chunks on the runner's
-// threads (each call touches body i alone).
-template <class Update>
-void World::for_each_awake_body(int group, const Update& update) {
-  const std::int32_t first = group_body_start_[std::size_t(group)];
-  runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
-                      [&](std::int32_t begin, std::int32_t end) {
-                        for (std::int32_t k = first + begin; k < first + end; ++k) {
-                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
-                          if (state_.asleep[i] == 0)
-                            update(i);
-                        }
-                      });
-}
-
-// Each dynamic body's box grows by how far its surface can move in this step (speed, plus what
-// gravity adds within the step, plus angular speed times its bounding radius) and half the
-// contact margin, so a pair that can touch within the step is always a candidate. With
-// continuous collision the growth stops at the body's sweep threshold: a body that moves farther
-// is swept over its whole motion by sweep_fast_bodies, so growing its box along its path would
-// only pair it with everything it passes (thousands of speculative contacts in
-// scenes/high_speed.yaml) for nothing the sweep does not already catch.
-void World::update_bounds(Real dt) {
-  StageTimer timer(current_, Stage::bounds);
-  const Real half_margin = Real(0.5) * scene_->world.contact_margin;
-  const Real gravity_speed = scene_->world.gravity.norm() * dt;
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    const BodyState& b = state_.bodies[i];
-    shape_poses_[i] = pose_of(b);
-    if (scene_->bodies[i].is_static) {
-      speculative_margin_[i] = half_margin;
-      continue;
-    }
-    Real reach =
-        dt * (b.velocity.norm() + gravity_speed + b.angular_velocity.norm() * bounding_radii_[i]);
-    if (continuous_)
-      reach = std::min(reach, continuous_->sweep_threshold(i));
-    speculative_margin_[i] = half_margin + reach;
-    broad_phase_->update(
-        static_cast<std::int32_t>(i),
-        world_aabb(scene_->bodies[i].shape, shape_poses_[i]).inflated(speculative_margin_[i]));
-  }
-}
-
-void World::find_candidate_pairs() {
-  StageTimer timer(current_, Stage::broad_phase);
-  broad_phase_->find_pairs(candidate_pairs_);
-  current_.candidate_pairs += static_cast<std::int64_t>(candidate_pairs_.size());
-}
-
-// Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its
-// manifold was computed reuses it (collision/manifold_recycling.hpp); the others collide: box-box
-// pairs, the most common in box scenes, through the batched path all at once
-// (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
-// batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
-void World::collide_candidate_pairs() {
-  StageTimer timer(current_, Stage::narrow_phase);
-  // The pass that sorts the candidates (recycling the kept manifolds as it goes) and the queries
-  // of the rest are timed apart, so that recycled and recomputed pairs have each their cost.
-  const auto sort_start = std::chrono::steady_clock::now();
-  contacts_.clear();
-  penalty_springs_.clear();
-  const auto& bodies = scene_->bodies;
-  const auto& materials = scene_->materials;
-  const WorldSettings& w = scene_->world;
-  const auto margin_of = [&](const ProxyPair& pair) {
-    return speculative_margin_[pair.a] + speculative_margin_[pair.b];
-  };
-  const auto is_box_pair = [&](const ProxyPair& pair) {
-    return bodies[pair.a].shape.type == ShapeType::box &&
-           bodies[pair.b].shape.type == ShapeType::box;
-  };
-  const auto is_sphere_pair = [&](const ProxyPair& pair) {
-    return bodies[pair.a].shape.type == ShapeType::sphere &&
-           bodies[pair.b].shape.type == ShapeType::sphere;
-  };
-  const auto smaller_radius = [&](const ProxyPair& pair) {
-    const BodyDesc& a = bodies[pair.a];
-    const BodyDesc& b = bodies[pair.b];
-    return std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
-                    b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
-  };
-  // What each candidate's manifold comes from: the kept manifold (its index in
-  // state_.manifolds), or a fresh query (-1).
-  const std::size_t n = candidate_pairs_.size();
-  candidate_manifolds_.resize(n);
-  candidate_kept_.assign(n, -1);
-  candidate_axis_.assign(n, kNoBoxAxis);
-  candidate_uses_gjk_.assign(n, 0);
-  candidate_is_hull_pair_.assign(n, 0);
-  if (candidate_hull_axis_.size() < n)
-    candidate_hull_axis_.resize(n);
-  if (candidate_gjk_.size() < n)
-    candidate_gjk_.resize(n);
-  box_queries_.clear();
-  box_candidates_.clear();
-  sphere_x_.clear();
-  sphere_y_.clear();
-  sphere_z_.clear();
-  sphere_radius_.clear();
-  sphere_pairs_.clear();
-  sphere_candidates_.clear();
-  other_candidates_.clear();
-  const std::vector<RecyclableManifold>& kept = state_.manifolds;
-  const std::vector<CachedBoxAxis>& axes = state_.box_axes;
+  reports_step_ = step;
+  reports_.clear();
+  const std::span<const PairContact> contacts = simulation_->contacts();
+  const std::vector<CachedManifold>& impulses = simulation_->state().contacts;
   std::size_t cursor = 0;
-  std::size_t axis_cursor = 0;
-  std::int64_t axis_tries = 0, axis_hits = 0;
-  const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
-  std::size_t gjk_cursor = 0;
-  std::int64_t gjk_warm = 0;
-  const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
-  std::size_t hull_cursor = 0;
-  std::int64_t hull_tries = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const ProxyPair& pair = candidate_pairs_[i];
-    // The candidates and every kept list are sorted by pair: one walk finds them all.
-    const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
-    if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] && manifold != nullptr &&
-        recycle(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
-                kRecycleDistance * smaller_radius(pair), kRecycleAngle, candidate_manifolds_[i])) {
-      candidate_kept_[i] = static_cast<std::int32_t>(manifold - kept.data());
-      continue;
-    }
-    if (is_box_pair(pair)) {
-      // The axis that kept the boxes apart last step, if it still does: no contact, and no
-      // query (collision/box_axis_cache.hpp).
-      if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b)) {
-        ++axis_tries;
-        const std::uint8_t axis = cached->axis;
-        if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                               bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
-                               margin_of(pair))) {
-          ++axis_hits;
-          candidate_axis_[i] = axis;
-          candidate_manifolds_[i].count = 0;
-          continue;
-        }
-      }
-      box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                              bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
-                              margin_of(pair)});
-      box_candidates_.push_back(static_cast<std::int32_t>(i));
-    } else if (is_sphere_pair(pair)) {
-      for (const std::int32_t body : {pair.a, pair.b}) {
-        const Vec3& c = shape_poses_[std::size_t(body)].translation;
-        sphere_x_.push_back(c.x());
-        sphere_y_.push_back(c.y());
-        sphere_z_.push_back(c.z());
-        sphere_radius_.push_back(bodies[std::size_t(body)].shape.radius);
-      }
-      const auto first = static_cast<std::int32_t>(sphere_candidates_.size() * 2);
-      sphere_pairs_.push_back({first, first + 1});
-      sphere_candidates_.push_back(static_cast<std::int32_t>(i));
-    } else {
-      if (bodies[pair.a].shape.type == ShapeType::hull &&
-          bodies[pair.b].shape.type == ShapeType::hull) {
-        // Last step's separating direction of a hull pair, tried in the query loop below.
-        const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b);
-        candidate_is_hull_pair_[i] = 1;
-        candidate_hull_axis_[i] = cached != nullptr ? cached->axis : HullAxis{};
-        hull_tries += cached != nullptr ? 1 : 0;
-      } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
-        // Last step's separating axis of a pair GJK answers, if it has one.
-        const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b);
-        candidate_uses_gjk_[i] = 1;
-        candidate_gjk_[i] = cached != nullptr ? cached->cache : GjkCache{};
-        gjk_warm += cached != nullptr ? 1 : 0;
-      }
-      other_candidates_.push_back(static_cast<std::int32_t>(i));
-    }
-  }
-  const auto query_start = std::chrono::steady_clock::now();
-  hull_hits_.assign(other_candidates_.size(), 0);
-  if (box_manifolds_.size() < box_queries_.size())
-    box_manifolds_.resize(box_queries_.size());
-  box_axes_found_.resize(box_queries_.size());
-  // Each query's answer is its own (collide_box_pairs answers a pair as collide() does, in any
-  // batch), so the batch splits over the threads.
-  runner_->for_chunks(
-      static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
-      [&](std::int32_t begin, std::int32_t end) {
-        const auto count = std::size_t(end - begin);
-        collide_box_pairs(std::span(box_queries_).subspan(std::size_t(begin), count),
-                          std::span(box_manifolds_).subspan(std::size_t(begin), count));
-        // The pairs found apart keep the axis that separates them most.
-        for (std::size_t k = std::size_t(begin); k < std::size_t(end); ++k) {
-          const BoxPairQuery& q = box_queries_[k];
-          box_axes_found_[k] =
-              box_manifolds_[k].count == 0
-                  ? best_separating_box_axis(q.half_a, q.pose_a, q.half_b, q.pose_b, q.margin)
-                  : kNoBoxAxis;
-        }
-      });
-  runner_->for_chunks(
-      static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
-      [&](std::int32_t begin, std::int32_t end) {
-        for (std::int32_t k = begin; k < end; ++k) {
-          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
-          const ProxyPair& pair = candidate_pairs_[i];
-          if (candidate_is_hull_pair_[i] != 0) {
-            // Apart along last step's direction: no contact, no query.
-            // Otherwise the query, and a direction for next step if apart.
-            const ConvexHull& hull_a = *bodies[pair.a].shape.hull;
-            const ConvexHull& hull_b = *bodies[pair.b].shape.hull;
-            HullAxis& axis = candidate_hull_axis_[i];
-            if (hull_axis_separates(hull_a, shape_poses_[pair.a], hull_b, shape_poses_[pair.b],
-                                    axis, margin_of(pair))) {
-              candidate_manifolds_[i] = Manifold{};
-              hull_hits_[std::size_t(k)] = 1;
-              continue;
-            }
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
-            axis = candidate_manifolds_[i].count == 0
-                       ? separating_hull_axis(hull_a, shape_poses_[pair.a], hull_b,
-                                              shape_poses_[pair.b], margin_of(pair))
-                       : HullAxis{};
-          } else if (candidate_uses_gjk_[i] != 0) {
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
-                    candidate_gjk_[i]);
-          } else {
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
-          }
-        }
-      });
-  for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
-    candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
-    candidate_axis_[std::size_t(box_candidates_[k])] = box_axes_found_[k];
-  }
-  // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
-  // keeps its own margin.
-  if (!sphere_pairs_.empty()) {
-    const std::size_t m = sphere_pairs_.size();
-    sphere_out_.resize(7 * m);
-    const SphereContactArrays out{sphere_out_.data(),         sphere_out_.data() + m,
-                                  sphere_out_.data() + 2 * m, sphere_out_.data() + 3 * m,
-                                  sphere_out_.data() + 4 * m, sphere_out_.data() + 5 * m,
-                                  sphere_out_.data() + 6 * m};
-    collide_sphere_pairs_dense(
-        {sphere_x_.data(), sphere_y_.data(), sphere_z_.data(), sphere_radius_.data()},
-        sphere_pairs_, 0, out);
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::size_t i = std::size_t(sphere_candidates_[k]);
-      Manifold& manifold = candidate_manifolds_[i];
-      manifold.count = 0;
-      if (!(out.depth[k] >= -margin_of(candidate_pairs_[i])))
-        continue;
-      manifold.normal = Vec3(out.normal_x[k], out.normal_y[k], out.normal_z[k]);
-      manifold.add(Vec3(out.x[k], out.y[k], out.z[k]), out.depth[k],
-                   {detail::feature::kSphere, detail::feature::kSphere});
-    }
-  }
-
-  const auto query_end = std::chrono::steady_clock::now();
-  current_.recycle_seconds += std::chrono::duration<double>(query_start - sort_start).count();
-  current_.recompute_seconds += std::chrono::duration<double>(query_end - query_start).count();
-  next_manifolds_.clear();
-  next_box_axes_.clear();
-  next_gjk_caches_.clear();
-  next_hull_axes_.clear();
-  std::int64_t recycled = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const ProxyPair& pair = candidate_pairs_[i];
-    if (candidate_axis_[i] != kNoBoxAxis)
-      next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
-    if (candidate_uses_gjk_[i] != 0 && candidate_gjk_[i].valid)
-      next_gjk_caches_.push_back({pair.a, pair.b, candidate_gjk_[i]});
-    if (candidate_is_hull_pair_[i] != 0 && candidate_hull_axis_[i].direction_in_a.squaredNorm() > 0)
-      next_hull_axes_.push_back({pair.a, pair.b, candidate_hull_axis_[i]});
-    const BodyDesc& a = bodies[pair.a];
-    const BodyDesc& b = bodies[pair.b];
-    Manifold& manifold = candidate_manifolds_[i];
-    if (candidate_kept_[i] >= 0) {
-      ++recycled;
-      next_manifolds_.push_back(kept[std::size_t(candidate_kept_[i])]);
-    } else {
-      if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
-        next_manifolds_.push_back(
-            make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
+  for (const PairContact& pc : contacts) {
+    ContactReport r;
+    r.body_a = {pc.body_a, generation_[std::size_t(pc.body_a)]};
+    r.body_b = {pc.body_b, generation_[std::size_t(pc.body_b)]};
+    r.normal = pc.manifold.normal;
+    r.point_count = pc.manifold.count;
+    while (cursor < impulses.size() && std::pair{impulses[cursor].body_a, impulses[cursor].body_b} <
+                                           std::pair{pc.body_a, pc.body_b})
+      ++cursor;
+    const CachedManifold* kept = cursor < impulses.size() && impulses[cursor].body_a == pc.body_a &&
+                                         impulses[cursor].body_b == pc.body_b
+                                     ? &impulses[cursor]
+                                     : nullptr;
+    for (int k = 0; k < pc.manifold.count; ++k) {
+      ContactPointReport& p = r.points[std::size_t(k)];
+      p.position = pc.manifold.points[std::size_t(k)].position;
+      p.depth = pc.manifold.points[std::size_t(k)].depth;
+      if (kept != nullptr && k < kept->count) {
+        p.normal_impulse = kept->points[std::size_t(k)].normal_impulse;
+        p.friction_impulse = kept->points[std::size_t(k)].friction_impulse;
       }
     }
-    if (manifold.count == 0)
-      continue;
-    PairContact pc;
-    pc.manifold = manifold;
-    pc.body_a = pair.a;
-    pc.body_b = pair.b;
-    const Material& ma = materials[a.material];
-    const Material& mb = materials[b.material];
-    pc.friction = std::sqrt(ma.friction * mb.friction);
-    pc.restitution = combined_restitution(ma, mb);
-    // A twentieth of the smaller body's size: far below the spacing of distinct contact
-    // points, far above the drift of one point between steps.
-    pc.match_distance = Real(0.05) * smaller_radius(pair);
-    contacts_.push_back(pc);
-    // The softer material sets the spring, the more damped one the damper: a rubber ball on
-    // steel deforms like rubber.
-    penalty_springs_.push_back(
-        PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
+    reports_.push_back(r);
   }
-  state_.manifolds.swap(next_manifolds_);
-  state_.box_axes.swap(next_box_axes_);
-  state_.gjk_caches.swap(next_gjk_caches_);
-  state_.hull_axes.swap(next_hull_axes_);
-  std::int64_t hull_hits = 0;
-  for (std::size_t k = 0; k < other_candidates_.size(); ++k)
-    hull_hits += hull_hits_[k];
-  current_.axis_cache_tries += hull_tries;
-  current_.axis_cache_hits += hull_hits;
-  current_.gjk_warm_starts += gjk_warm;
-  current_.axis_cache_tries += axis_tries;
-  current_.axis_cache_hits += axis_hits;
-  current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
-  current_.recycled_pairs += recycled;
-  current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled;
 }
 
-void World::prepare_contacts() {
-  const WorldSettings& w = scene_->world;
-  if (w.solver == SolverType::penalty) {
-    // The penalty solver runs every moving body in one group, at penalty_substeps().
-    {
-      StageTimer timer(current_, SolvePhase::islands_and_sleep);
-      group_settings_.resize(1);
-      group_settings_[0].substeps = penalty_substeps_;
-      group_settings_[0].substep = w.dt / penalty_substeps_;
-      group_bodies_.clear();
-      for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-        if (!scene_->bodies[i].is_static)
-          group_bodies_.push_back(static_cast<std::int32_t>(i));
-      }
-      group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
-      current_.max_substeps = penalty_substeps_;
-    }
-    StageTimer timer(current_, SolvePhase::prepare);
-    PenaltySolverSettings settings;
-    settings.substep = group_settings_[0].substep;
-    settings.min_iterations = w.iterations;
-    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
-    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
-                            settings);
-    current_.contact_points += penalty_solver_.point_count();
-    return;
-  }
-  {
-    StageTimer timer(current_, SolvePhase::prepare);
-    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
-  }
-  {
-    StageTimer timer(current_, SolvePhase::islands_and_sleep);
-    choose_substeps();
-  }
-  StageTimer timer(current_, SolvePhase::prepare);
-  solver_.pack(group_of_contact_, group_settings_);
-  current_.contact_points += solver_.point_count();
+std::span<const ContactReport> World::contact_reports() const {
+  refresh_reports();
+  return reports_;
 }
 
-// Substeps per island (docs/architecture.md). A soft contact of angular frequency omega settles
-// load / (m_eff omega^2) deep under its load; omega grows with the substep rate (an eighth of it
-// between moving bodies, a quarter against a static one), so an island whose warm-started load
-// would sink a contact deeper than the sag tolerance doubles its substeps until it does not, up
-// to max_substeps. Islands with the same count form one group, solved together.
-void World::choose_substeps() {
-  const WorldSettings& w = scene_->world;
-  const auto& bodies = scene_->bodies;
-  const std::size_t n = state_.bodies.size();
-  const int base = std::max(1, w.substeps);
-  const int cap = std::max(base, w.max_substeps);
-  int top_level = 0;
-  while ((base << (top_level + 1)) <= cap)
-    ++top_level;
-  islands_.reset(n);
-  for (const PairContact& pc : contacts_) {
-    if (!bodies[std::size_t(pc.body_a)].is_static && !bodies[std::size_t(pc.body_b)].is_static)
-      islands_.join(pc.body_a, pc.body_b);
-  }
-  // Per island root: the level its loads need now, the level it had, and its mass (a contact in
-  // an island at rest carries at most the island's weight; more is an impact, which needs no
-  // stiffer spring to hold it up).
-  level_needed_.assign(n, 0);
-  level_before_.assign(n, 0);
-  hold_before_.assign(n, 0);
-  island_mass_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (bodies[i].is_static)
-      continue;
-    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
-    level_before_[root] = std::max(level_before_[root], state_.substep_level[i]);
-    hold_before_[root] = std::max(hold_before_[root], state_.substep_hold[i]);
-    if (masses_[i].inverse_mass > 0)
-      island_mass_[root] += 1 / masses_[i].inverse_mass;
-  }
-  const std::span<const ContactLoad> load = solver_.contact_loads();
-  if (!w.contact_hertz) {
-    constexpr Real kPi = std::numbers::pi_v<Real>;
-    const Real gravity = w.gravity.norm();
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-      const PairContact& pc = contacts_[c];
-      const bool a_static = bodies[std::size_t(pc.body_a)].is_static;
-      const bool b_static = bodies[std::size_t(pc.body_b)].is_static;
-      const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
-      const std::size_t root = std::size_t(islands_.root(moving));
-      const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
-                                            : bounding_radii_[std::size_t(pc.body_a)],
-                                   b_static ? bounding_radii_[std::size_t(pc.body_a)]
-                                            : bounding_radii_[std::size_t(pc.body_b)]);
-      const Real tolerance = w.sag_tolerance * radius;
-      if (!(tolerance > 0))
-        continue;
-      // What the contact carried last step counts only while the pair rests (its points close or
-      // part slower than the restitution threshold), and then at most the island's weight: more
-      // is an impact, which a stiffer spring need not hold up.
-      const BodyState& sa = state_.bodies[std::size_t(pc.body_a)];
-      const BodyState& sb = state_.bodies[std::size_t(pc.body_b)];
-      const Vec3& p = pc.manifold.points[0].position;
-      const Real approach =
-          pc.manifold.normal.dot(sa.velocity + sa.angular_velocity.cross(p - sa.position) -
-                                 sb.velocity - sb.angular_velocity.cross(p - sb.position));
-      const bool resting = std::abs(approach) <= w.restitution_threshold;
-      const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
-      const Real needed_load =
-          std::max(load[c].weight, resting ? std::min(load[c].warm, at_rest) : Real(0));
-      if (!(needed_load > 0))
-        continue;
-      // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
-      const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
-      const Real needed = per_substep * std::sqrt(needed_load / tolerance);
-      std::uint8_t& level = level_needed_[root];
-      while (level < top_level && Real(base << level) < needed)
-        ++level;
-    }
-  }
-  // Up at once; down one level at a time, and only after kSubstepHold steps of needing less, so
-  // that a load near a boundary does not switch the spring's stiffness back and forth (each
-  // switch up pushes out the softer spring's sag, and that energy comes back as motion).
-  constexpr std::uint8_t kSubstepHold = 30;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (islands_.root(std::int32_t(i)) != std::int32_t(i))
-      continue;
-    std::uint8_t& level = level_needed_[i];
-    std::uint8_t& hold = hold_before_[i];
-    if (level >= level_before_[i]) {
-      hold = level > 0 ? kSubstepHold : 0;
-    } else if (hold > 0) {
-      level = level_before_[i];
-      --hold;
-    } else {
-      level = std::uint8_t(level_before_[i] - 1);
-      hold = level > 0 ? kSubstepHold : 0;
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
-    state_.substep_level[i] = bodies[i].is_static ? 0 : level_needed_[root];
-    state_.substep_hold[i] = bodies[i].is_static ? 0 : hold_before_[root];
-  }
-  substeps_of_root_.assign(n, base);
-  for (std::size_t i = 0; i < n; ++i)
-    substeps_of_root_[i] = base << level_needed_[i];
-
-  // Groups: one per distinct count, ascending from the base (group 0, always there).
-  group_settings_.clear();
-  const auto group_of = [&](int substeps) {
-    for (std::size_t g = 0; g < group_settings_.size(); ++g)
-      if (group_settings_[g].substeps == substeps)
-        return static_cast<std::int32_t>(g);
-    ContactSolverSettings settings;
-    settings.substeps = substeps;
-    settings.substep = w.dt / substeps;
-    settings.penetration_slop = w.penetration_slop;
-    const Real rate = Real(1) / settings.substep;
-    if (w.contact_hertz) {
-      settings.contact_hertz = std::min(*w.contact_hertz, Real(0.25) * rate);
-      settings.static_contact_hertz = std::min(2 * *w.contact_hertz, Real(0.25) * rate);
-    } else {
-      settings.contact_hertz = Real(0.125) * rate;
-      settings.static_contact_hertz = Real(0.25) * rate;
-    }
-    settings.contact_damping_ratio = w.contact_damping_ratio;
-    settings.max_push_velocity = w.max_push_velocity;
-    settings.restitution_threshold = w.restitution_threshold;
-    group_settings_.push_back(settings);
-    return static_cast<std::int32_t>(group_settings_.size() - 1);
-  };
-  group_of(base);
-  int most = base;
-  // Visit the counts in ascending order so that group numbers do not depend on island order.
-  for (int substeps = 2 * base; substeps <= cap; substeps *= 2) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (substeps_of_root_[i] == substeps && islands_.root(std::int32_t(i)) == std::int32_t(i)) {
-        group_of(substeps);
-        most = substeps;
-        break;
-      }
-    }
-  }
-  const auto body_group = [&](std::int32_t body) {
-    return group_of(substeps_of_root_[std::size_t(islands_.root(body))]);
-  };
-  group_of_contact_.resize(contacts_.size());
-  for (std::size_t c = 0; c < contacts_.size(); ++c) {
-    const PairContact& pc = contacts_[c];
-    group_of_contact_[c] =
-        body_group(bodies[std::size_t(pc.body_a)].is_static ? pc.body_b : pc.body_a);
-  }
-  const std::size_t groups = group_settings_.size();
-  group_body_start_.assign(groups + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!bodies[i].is_static)
-      ++group_body_start_[std::size_t(body_group(std::int32_t(i))) + 1];
-  }
-  for (std::size_t g = 0; g < groups; ++g)
-    group_body_start_[g + 1] += group_body_start_[g];
-  group_bodies_.resize(std::size_t(group_body_start_[groups]));
-  std::vector<std::int32_t>& cursor = group_fill_;
-  cursor.assign(group_body_start_.begin(), group_body_start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!bodies[i].is_static) {
-      const std::size_t g = std::size_t(body_group(std::int32_t(i)));
-      group_bodies_[std::size_t(cursor[g]++)] = std::int32_t(i);
-    }
-  }
-  current_.max_substeps = std::max(current_.max_substeps, most);
+std::optional<RayHit> World::ray_cast(const Vec3& origin, const Vec3& direction,
+                                      Real max_distance) const {
+  if (!(origin.allFinite() && origin.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    throw Error("tumble::World::ray_cast: origin " + vector_text(origin) +
+                " m is not finite or beyond 1e9");
+  const Real length = direction.norm();
+  if (!(std::isfinite(length) && length > 0))
+    throw Error("tumble::World::ray_cast: direction " + vector_text(direction) +
+                " has no finite, non-zero length");
+  if (!(max_distance >= 0 && max_distance <= 2 * kMaxCoordinate))
+    throw Error("tumble::World::ray_cast: max_distance " + number_text(max_distance) +
+                " m is not between 0 and 2e9");
+  const Vec3 unit = direction / length;
+  const Simulation::RayResult r = simulation_->ray_cast(origin, unit, max_distance);
+  if (r.body < 0)
+    return std::nullopt;
+  RayHit hit;
+  hit.body = {r.body, generation_[std::size_t(r.body)]};
+  hit.distance = r.distance;
+  hit.point = origin + unit * r.distance;
+  hit.normal = r.normal;
+  return hit;
 }
 
-// Before the bodies move: the warm start and the pairwise impacts, then the soft passes (the
-// penalty solver: its passes until the springs converge).
-void World::solve_contacts(int group) {
-  const WorldSettings& w = scene_->world;
-  if (w.solver == SolverType::penalty) {
-    StageTimer timer(current_, SolvePhase::soft_passes);
-    penalty_solver_.begin_substep(state_.bodies);
-    const PenaltySolverSettings& settings = penalty_solver_.settings();
-    for (int it = 0; it < settings.max_iterations; ++it) {
-      const Real change = penalty_solver_.solve(state_.bodies);
-      current_.solver_iterations += 1;
-      current_.point_passes += penalty_solver_.point_count();
-      if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
-        break;
-    }
-    return;
-  }
-  {
-    StageTimer timer(current_, SolvePhase::warm_start);
-    solver_.load_velocities(group, state_.bodies);
-    // Impacts first, on the velocities the bodies arrive with: after the warm start they would
-    // reflect the approach the cached impulses add, which the passes may take back but the
-    // bounce keeps (a sphere squeezed between a box and a capsule left at 22 m/s from 16).
-    solver_.resolve_impacts(group);
-    solver_.warm_start(group);
-  }
-  StageTimer timer(current_, SolvePhase::soft_passes);
-  for (int it = 0; it < w.iterations; ++it)
-    solver_.solve(group, /*use_bias=*/true);
-  solver_.store_velocities(group, state_.bodies);
-  current_.solver_iterations += w.iterations;
-  current_.point_passes += std::int64_t(w.iterations) * solver_.group_point_count(group);
-}
-
-// After the bodies moved: the separations, the relax passes that take out the push-out speed,
-// and restitution. The penalty solver has none of these (the spring is the physics, not a
-// correction to remove, and the damper sets the bounce).
-void World::relax_contacts(int group) {
-  const WorldSettings& w = scene_->world;
-  if (w.solver == SolverType::penalty)
-    return;
-  {
-    StageTimer timer(current_, SolvePhase::relax_passes);
-    solver_.update_separations(group, state_.bodies);
-    solver_.load_velocities(group, state_.bodies);
-    for (int it = 0; it < w.relax_iterations; ++it)
-      solver_.solve(group, /*use_bias=*/false);
-    current_.solver_iterations += w.relax_iterations;
-    current_.point_passes += std::int64_t(w.relax_iterations) * solver_.group_point_count(group);
-  }
-  StageTimer timer(current_, SolvePhase::restitution);
-  solver_.apply_restitution(group);
-  solver_.store_velocities(group, state_.bodies);
-}
-
-void World::finish_contacts() {
-  StageTimer timer(current_, SolvePhase::store_impulses);
-  if (scene_->world.solver == SolverType::penalty)
-    penalty_solver_.store(state_.contacts);
-  else
-    solver_.store(state_.contacts);
-}
-
-void World::integrate_positions(int group, Real h) {
-  StageTimer timer(current_, Stage::integrate_positions);
-  for_each_awake_body(group,
-                      [&](std::size_t i) { integrate_position(state_.bodies[i], carries_[i], h); });
-}
-
-WorldMemory World::memory() const {
-  WorldMemory m;
-  const auto bytes = [](const auto& v) {
-    return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
-  };
-  m.body_bytes = bytes(state_.bodies) + bytes(state_.slow_time) + bytes(state_.asleep) +
-                 bytes(state_.substep_level) + bytes(state_.substep_hold) + bytes(masses_) +
-                 bytes(bounding_radii_) + bytes(shape_poses_) + bytes(carries_) +
-                 bytes(speculative_margin_) + bytes(group_bodies_) + bytes(substeps_of_root_) +
-                 bytes(level_needed_) + bytes(level_before_) + bytes(hold_before_) +
-                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
-  m.contact_bytes = bytes(state_.contacts) + bytes(candidate_pairs_) + bytes(box_queries_) +
-                    bytes(box_manifolds_) + bytes(contacts_) + bytes(penalty_springs_) +
-                    bytes(group_of_contact_) + solver_.bytes_reserved();
-  return m;
-}
-
-Real World::kinetic_energy() const {
-  Real e = 0;
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    e += tumble::kinetic_energy(state_.bodies[i], masses_[i]);
-  }
-  return e;
-}
-
-Real World::potential_energy() const {
-  Real e = 0;
-  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-    if (masses_[i].inverse_mass == 0)
-      continue;
-    e -= scene_->world.gravity.dot(state_.bodies[i].position) / masses_[i].inverse_mass;
-  }
-  return e;
+std::uint64_t World::state_hash() const {
+  return simulation_->state_hash();
 }
 
 }  // namespace tumble

@@ -2,12 +2,12 @@
 // automatically around the bounded bodies.
 #pragma once
 
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 #include "engine/state.hpp"
 
 namespace tumble::render {
 
-// World-space box around every bounded body in `state` (planes excluded). Empty scenes and
+// Simulation-space box around every bounded body in `state` (planes excluded). Empty scenes and
 // plane-only scenes get a unit box around the origin.
 Aabb bounds_of_bodies(const Scene& scene, const State& state);
 

@@ -332,7 +332,7 @@ struct Renderer::Impl {
     glDisable(GL_CULL_FACE);
   }
 
-  void draw_overlays(const World& world) const {
+  void draw_overlays(const Simulation& world) const {
     const State& state = world.state();
     const float s = static_cast<float>(settings.supersample);
     glDisable(GL_LIGHTING);
@@ -408,7 +408,7 @@ struct Renderer::Impl {
     glEnable(GL_LIGHTING);
   }
 
-  void update_stages(const World& world) {
+  void update_stages(const Simulation& world) {
     std::fill(stage.begin(), stage.end(), 0);
     for (const ProxyPair& p : world.candidate_pairs()) {
       stage[p.a] = std::max(stage[p.a], 1);
@@ -495,7 +495,7 @@ const Camera& Renderer::camera() const {
   return impl_->camera;
 }
 
-void Renderer::render(const World& world, Image& image) {
+void Renderer::render(const Simulation& world, Image& image) {
   Impl& m = *impl_;
   if (!OSMesaMakeCurrent(m.context, m.buffer.data(), GL_UNSIGNED_BYTE, m.buffer_width,
                          m.buffer_height)) {

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "renders/image.hpp"
 
 namespace tumble::render {
@@ -58,7 +58,7 @@ class Renderer {
 
   // Draws the world's current state (and, for overlays, its last step's pairs and contacts)
   // into `image`, resized to the output size.
-  void render(const World& world, Image& image);
+  void render(const Simulation& world, Image& image);
 
   const Camera& camera() const;
 

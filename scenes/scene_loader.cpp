@@ -33,123 +33,18 @@
 #include "collision/broad_phase_factory.hpp"
 #include "collision/compound_shape.hpp"
 #include "collision/triangle_mesh.hpp"
+#include "engine/scene_limits.hpp"
 #include "scenes/obj_reader.hpp"
 #include "scenes/query_file.hpp"
 
 namespace tumble {
 
-namespace {
-
-std::string format_message(const std::string& file, int line, int column, const std::string& field,
-                           const std::string& reason) {
-  std::string m = file;
-  if (line > 0) {
-    m += ":" + std::to_string(line) + ":" + std::to_string(column);
-  }
-  m += ": ";
-  if (!field.empty()) {
-    m += "field '" + field + "': ";
-  }
-  m += reason;
-  return m;
-}
-
-}  // namespace
-
-SceneError::SceneError(std::string file_, int line_, int column_, std::string field_,
-                       std::string reason_)
-    : std::runtime_error(format_message(file_, line_, column_, field_, reason_)),
-      file(std::move(file_)),
-      line(line_),
-      column(column_),
-      field(std::move(field_)),
-      reason(std::move(reason_)) {}
 
 namespace {
 
 using Keys = std::span<const std::string_view>;
 
-// ---------------------------------------------------------------------------------------------
-// Limits. They are sanity bounds, not physics: they catch a typo (a missing minus in an
-// exponent, a value in millimetres) before it becomes an overflow or a step count that never
-// ends. docs/scene-format.md states each one.
-
-constexpr Real kMaxLength = 1e9;        // m, |coordinate| and any size
-constexpr Real kMinSize = 1e-9;         // m, smallest radius or half extent
-constexpr Real kMaxSpeed = 1e6;         // m/s
-constexpr Real kMaxAngularSpeed = 1e6;  // rad/s
-constexpr Real kMaxAcceleration = 1e6;  // m/s^2, per gravity component
-constexpr Real kMinMass = 1e-12;        // kg, a picogram
-constexpr Real kMaxMass = 1e15;         // kg
-constexpr Real kMaxDensity = 1e6;       // kg/m^3
-// Moments of inertia: the extreme masses times the extreme sizes squared, with room to spare.
-constexpr Real kMinMoment = 1e-40;      // kg m^2
-constexpr Real kMaxMoment = 1e40;       // kg m^2
-constexpr Real kMinTimeStep = 1e-9;     // s
-constexpr Real kMaxDuration = 1e9;      // s
-constexpr Real kMaxFriction = 100;      // [1]
-constexpr Real kQuatTolerance = 1e-6;   // allowed | |q| - 1 |
-constexpr Real kDefaultDensity = 1000;  // kg/m^3, water
-constexpr std::int64_t kMaxSteps = 1000000000;
-constexpr std::size_t kMaxBodies = 1000000;
-constexpr std::size_t kMaxNameLength = 256;
-
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
-// A numeric field: what it is (with its unit) and its closed range, optionally open at `lo`.
-// `range` is the human text of [lo, hi] so that messages read naturally ("1e-9 to 1e9").
-struct RealSpec {
-  std::string_view what;
-  std::string_view range;
-  Real lo = -kInf;
-  Real hi = kInf;
-  bool lo_open = false;
-};
-
-struct IntSpec {
-  std::string_view what;
-  std::string_view range;
-  std::int64_t lo;
-  std::int64_t hi;
-};
-
-constexpr RealSpec kCoordinate{"a coordinate in metres", "-1e9 to 1e9", -kMaxLength, kMaxLength};
-constexpr RealSpec kSize{"a positive number in metres", "1e-9 to 1e9", kMinSize, kMaxLength};
-constexpr RealSpec kHalfLength{"a non-negative number in metres", "0 to 1e9", 0, kMaxLength};
-constexpr RealSpec kDistance{"a non-negative distance in metres", "0 to 1e9", 0, kMaxLength};
-constexpr RealSpec kVelocity{"a velocity in m/s", "-1e6 to 1e6", -kMaxSpeed, kMaxSpeed};
-constexpr RealSpec kAngularVelocity{"an angular velocity in rad/s", "-1e6 to 1e6",
-                                    -kMaxAngularSpeed, kMaxAngularSpeed};
-constexpr RealSpec kAcceleration{"an acceleration in m/s^2", "-1e6 to 1e6", -kMaxAcceleration,
-                                 kMaxAcceleration};
-constexpr RealSpec kQuatComponent{"a finite number", "", -kInf, kInf};
-constexpr RealSpec kTimeStep{"a time step in seconds", "1e-9 to 1", kMinTimeStep, 1};
-constexpr RealSpec kDuration{"a duration in seconds", "greater than 0, at most 1e9", 0,
-                             kMaxDuration, true};
-constexpr RealSpec kFrequency{"a frequency in Hz or auto", "greater than 0, at most 1e6", 0, 1e6,
-                              true};
-constexpr RealSpec kSagTolerance{"a fraction of the body's bounding radius",
-                                 "greater than 0, at most 1", 0, 1, true};
-constexpr RealSpec kDampingRatio{"a damping ratio", "0 to 1e6", 0, 1e6};
-constexpr RealSpec kPushSpeed{"a speed in m/s", "greater than 0, at most 1e6", 0, kMaxSpeed, true};
-constexpr RealSpec kSpeedThreshold{"a speed in m/s", "0 to 1e6", 0, kMaxSpeed};
-constexpr RealSpec kFriction{"a friction coefficient", "0 to 100", 0, kMaxFriction};
-constexpr RealSpec kRestitution{"a coefficient of restitution", "0 to 1", 0, 1};
-constexpr RealSpec kStiffness{"a contact stiffness in N/m", "greater than 0, at most 1e12", 0, 1e12,
-                              true};
-constexpr RealSpec kDamping{"a contact damping in N s/m", "0 to 1e12", 0, 1e12};
-constexpr RealSpec kMass{"a positive mass in kilograms", "1e-12 to 1e15", kMinMass, kMaxMass};
-constexpr RealSpec kDensity{"a positive density in kg/m^3", "greater than 0, at most 1e6", 0,
-                            kMaxDensity, true};
-constexpr RealSpec kMoment{"a positive principal moment of inertia in kg m^2", "1e-40 to 1e40",
-                           kMinMoment, kMaxMoment};
-constexpr RealSpec kFov{"a vertical field of view in degrees", "1 to 179", 1, 179};
-
-constexpr IntSpec kSteps{"a whole number of steps", "1 to 1e9", 1, kMaxSteps};
-constexpr IntSpec kThreads{"a whole number of threads, or auto", "1 to 1024", 1, 1024};
-constexpr IntSpec kSubsteps{"a whole number of substeps", "1 to 1000", 1, 1000};
-constexpr IntSpec kIterations{"a whole number of velocity iterations", "1 to 10000", 1, 10000};
-constexpr IntSpec kRelaxIterations{"a whole number of relax iterations", "0 to 10000", 0, 10000};
+using namespace scene_limits;
 
 // Field names per map. Order is the order messages list them in.
 constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};

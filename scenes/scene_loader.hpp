@@ -8,26 +8,13 @@
 #pragma once
 
 #include <filesystem>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 
-#include "engine/scene.hpp"
+#include "tumble/error.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble {
-
-// The one exception the loader throws. what() is the full one-line message:
-//   FILE:LINE:COLUMN: field 'bodies[2].shape.radius': expected a positive number ..., got -1
-// Where there is no position (a file that cannot be opened) it reads `FILE: reason`.
-struct SceneError : std::runtime_error {
-  SceneError(std::string file, int line, int column, std::string field, std::string reason);
-
-  std::string file;    // the source name given to the loader (a path for files)
-  int line = 0;        // 1-based; 0 when the error has no position in the text
-  int column = 0;      // 1-based; 0 when the error has no position in the text
-  std::string field;   // dotted path such as "bodies[2].shape.radius"; empty for syntax errors
-  std::string reason;  // the message without the "FILE:LINE:COLUMN: field '...': " prefix
-};
 
 // Loads and validates the scene in `path`; Scene::source is set to the path as given.
 // Throws SceneError, and nothing else, on any problem (including a missing file).

@@ -28,8 +28,8 @@ bool sphere_hit(const Vec3& o, const Vec3& d, Real r, Real& t) {
   return t >= 0 && t <= 1;
 }
 
-RayHit local_ray(const Shape& shape, const Vec3& o, const Vec3& d) {
-  RayHit out;
+ShapeRayHit local_ray(const Shape& shape, const Vec3& o, const Vec3& d) {
+  ShapeRayHit out;
   switch (shape.type) {
     case ShapeType::sphere: {
       Real t = 0;
@@ -211,7 +211,7 @@ RayHit local_ray(const Shape& shape, const Vec3& o, const Vec3& d) {
     }
     case ShapeType::compound: {
       for (const CompoundPart& part : shape.compound->parts()) {
-        RayHit h = local_ray(part.shape, part.pose.apply_inverse(o), part.pose.rotate_inverse(d));
+        ShapeRayHit h = local_ray(part.shape, part.pose.apply_inverse(o), part.pose.rotate_inverse(d));
         if (h.hit && (!out.hit || h.fraction < out.fraction)) {
           h.normal = part.pose.rotate(h.normal);
           out = h;
@@ -313,8 +313,8 @@ Real signed_distance(const Shape& shape, const Transform& pose, const Vec3& poin
   return local_signed_distance(shape, pose.apply_inverse(point));
 }
 
-RayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta) {
-  RayHit out;
+ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta) {
+  ShapeRayHit out;
   if (!origin.allFinite() || !delta.allFinite())
     return out;
   if (signed_distance(shape, pose, origin) <= 0) {

@@ -8,7 +8,7 @@
 
 namespace tumble {
 
-struct RayHit {
+struct ShapeRayHit {
   bool hit = false;
   // Where along the ray the surface is first met: point = origin + fraction * delta, in [0, 1].
   // A ray starting inside the shape hits at fraction 0.
@@ -17,7 +17,7 @@ struct RayHit {
 };
 
 // The segment from `origin` to `origin + delta` (world) against `shape` at `pose`.
-RayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta);
+ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta);
 
 // Signed distance of a world point to the shape's surface (negative inside) [m]; exact for the
 // convex shapes, unsigned for a mesh (a surface), the nearest part's for a compound. The

@@ -8,7 +8,7 @@
 #include <new>
 #include <string>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 // These replacements take memory from malloc and give it back to free, which GCC cannot see
@@ -102,7 +102,7 @@ namespace {
 long allocations_after_warm_up(const std::string& scene_file, int warm_up, int measured) {
   auto scene = std::make_shared<const Scene>(
       load_scene_file(std::string(TUMBLE_SOURCE_DIR) + "/scenes/" + scene_file));
-  World world(scene);
+  Simulation world(scene);
   for (int k = 0; k < warm_up; ++k)
     world.step();
   const long before = g_allocations.load();

@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "apps/trajectory_writer.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 extern char** environ;
@@ -92,7 +92,7 @@ TEST(Cli, RunWritesTrajectoryAndSummary) {
 
   // Numbers round-trip exactly: the last row equals an in-process run bit for bit.
   const auto scene = std::make_shared<const Scene>(load_scene_file(kScenes + "free_flight.yaml"));
-  World world(scene);
+  Simulation world(scene);
   for (int k = 0; k < 30; ++k)
     world.step();
   std::istringstream fields(last);

@@ -36,7 +36,7 @@
 #include "collision/ccd/swept_box_sat.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
 #include "collision/convex_hull.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
 
@@ -343,7 +343,7 @@ void BM_HighSpeedTumble(benchmark::State& state) {
   scene->world.ccd = state.range(0) == 1 ? CcdMode::automatic : CcdMode::off;
   int lost = 0;
   for (auto _ : state) {
-    World world(scene);
+    Simulation world(scene);
     for (int k = 0; k < kHighSpeedSteps; ++k)
       world.step();
     std::vector<Vec3> positions;

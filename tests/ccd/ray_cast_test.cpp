@@ -33,7 +33,7 @@ TEST(RayCast, AgreesWithSamplingForEveryShape) {
     const Transform pose{random_vector(rng, -1, 1), random_rotation(rng)};
     const Vec3 origin = random_vector(rng, -3, 3);
     const Vec3 delta = (pose.translation - origin) * 1.5 + random_vector(rng, -1.5, 1.5);
-    const RayHit hit = ray_cast(shape, pose, origin, delta);
+    const ShapeRayHit hit = ray_cast(shape, pose, origin, delta);
     int first_inside = -1;
     for (int k = 0; k <= kSamples; ++k) {
       if (signed_distance(shape, pose, origin + delta * (Real(k) / kSamples)) <= 0) {
@@ -75,7 +75,7 @@ TEST(RayCast, AgreesWithSamplingForEveryShape) {
 TEST(RayCast, NanAndStartInside) {
   const Shape s = Shape::sphere(1);
   EXPECT_FALSE(ray_cast(s, {}, Vec3(std::nan(""), 0, 0), Vec3(1, 0, 0)).hit);
-  const RayHit inside = ray_cast(s, {}, Vec3(0.5, 0, 0), Vec3(3, 0, 0));
+  const ShapeRayHit inside = ray_cast(s, {}, Vec3(0.5, 0, 0), Vec3(3, 0, 0));
   EXPECT_TRUE(inside.hit);
   EXPECT_EQ(inside.fraction, 0);
 }

@@ -166,7 +166,7 @@ std::vector<Vec3> minkowski_difference(const std::vector<Vec3>& a, const std::ar
   return d;
 }
 
-// World vertices of a prism with a regular `sides`-gon cross section of circumradius `radius`.
+// Simulation vertices of a prism with a regular `sides`-gon cross section of circumradius `radius`.
 std::vector<Vec3> prism(const Shape& cylinder, const Transform& pose, Real radius, int sides) {
   std::vector<Vec3> v;
   for (int s = 0; s < sides; ++s) {

@@ -66,7 +66,7 @@ std::optional<PlacedShape> to_shape(const json& j) {
     return PlacedShape{Shape::cylinder(j.at("radius"), j.at("half_height")), {}};
   }
   if (type == "convex_hull") {
-    // World vertices: the hull is re-centred on its centre of mass, which the local frame puts
+    // Simulation vertices: the hull is re-centred on its centre of mass, which the local frame puts
     // back.
     std::vector<Vec3> points;
     for (const json& v : j.at("vertices"))

@@ -136,7 +136,7 @@ TEST(RayCastNewShapes, RayCastsAgreeWithSampling) {
       origin = pose.translation + random_vector_in_box(rng, 3);
     } while (truth(origin) <= 0);
     const Vec3 delta = (pose.translation - origin) * 1.5 + random_vector_in_box(rng, 1.2 * reach);
-    const RayHit hit = ray_cast(shape, pose, origin, delta);
+    const ShapeRayHit hit = ray_cast(shape, pose, origin, delta);
     SCOPED_TRACE(std::string(kind_name(kind)) + " case " + std::to_string(i));
     int first_inside = -1;
     Real closest = std::numeric_limits<Real>::infinity();

@@ -98,7 +98,7 @@ TEST(OracleCli, ReportConvergesAtFirstOrderOnTheParabola) {
     const double ratio = it->second / std::prev(it)->second;
     EXPECT_NEAR(ratio, it->first / std::prev(it)->first, 0.05);
   }
-  // The penalty solver takes substeps no longer than its stiffest spring allows (World sets
+  // The penalty solver takes substeps no longer than its stiffest spring allows (Simulation sets
   // h omega < 2 for the lightest body), so its error stays at that substep's until the swept
   // one is finer: never larger for a finer step.
   const auto& penalty = tumble_dt["penalty"];

@@ -28,7 +28,7 @@ TEST(ContactOracle, BounceApexesAgreeWithEachOtherAndTheory) {
   std::vector<Real> zt, zb;
   Real max_error = 0;
   test::lockstep(scene, app::scene_steps(*scene),
-                 [&](std::int64_t, const World& w, const app::BulletWorld& b) {
+                 [&](std::int64_t, const Simulation& w, const app::BulletWorld& b) {
                    zt.push_back(w.state().bodies[0].position.z());
                    zb.push_back(b.body(0).position.z());
                    max_error = std::max(max_error,
@@ -56,7 +56,7 @@ TEST(ContactOracle, SlideAgreesWithEachOtherAndTheory) {
   const Real a = 9.81 * (0.5 - 0.3 * std::cos(M_PI / 6));
   Real max_error = 0, st = 0, sb = 0;
   test::lockstep(scene, app::scene_steps(*scene),
-                 [&](std::int64_t, const World& w, const app::BulletWorld& b) {
+                 [&](std::int64_t, const Simulation& w, const app::BulletWorld& b) {
                    const Vec3 xt = w.state().bodies[box].position;
                    const Vec3 xb = b.body(box).position;
                    max_error = std::max(max_error, (xt - xb).norm());

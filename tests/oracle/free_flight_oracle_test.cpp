@@ -33,7 +33,7 @@ bodies:
 )",
                                                                "thrown"));
   Real max_relative = 0;
-  test::lockstep(scene, 300, [&](std::int64_t, const World& world, const app::BulletWorld& b) {
+  test::lockstep(scene, 300, [&](std::int64_t, const Simulation& world, const app::BulletWorld& b) {
     for (int i = 0; i < 3; ++i) {
       const Vec3 x = world.state().bodies[i].position;
       const Vec3 y = b.body(i).position;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "apps/bullet_bridge.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::test {
@@ -21,7 +21,7 @@ inline std::shared_ptr<const Scene> oracle_scene(const std::string& name) {
 template <class Visit>
 void lockstep(const std::shared_ptr<const Scene>& scene, std::int64_t steps, Visit&& visit,
               const app::BulletSettings* settings = nullptr) {
-  World world(scene);
+  Simulation world(scene);
   app::BulletWorld bullet(*scene, settings ? *settings : app::matching_bullet_settings(*scene));
   for (std::int64_t k = 1; k <= steps; ++k) {
     world.step();

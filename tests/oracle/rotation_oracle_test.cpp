@@ -68,7 +68,7 @@ RotationErrors measure(Real dt) {
   const int fine = 40;  // RK4 steps per engine step
   const Real h = dt / fine;
   RotationErrors e;
-  test::lockstep(scene, steps, [&](std::int64_t, const World& world, const app::BulletWorld& bw) {
+  test::lockstep(scene, steps, [&](std::int64_t, const Simulation& world, const app::BulletWorld& bw) {
     for (int k = 0; k < fine; ++k)
       truth = rk4(truth, I, I_inv, h);
     const Quat qt = world.state().bodies[0].orientation;

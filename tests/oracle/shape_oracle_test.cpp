@@ -13,7 +13,7 @@
 
 #include "apps/bullet_bridge.hpp"
 #include "apps/compare_command.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "oracle_fixture.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -33,7 +33,7 @@ struct Rest {
 std::vector<Rest> settle(const std::shared_ptr<const Scene>& scene,
                          std::vector<std::string>& mismatches) {
   std::vector<Rest> rest(scene->bodies.size());
-  World world(scene);
+  Simulation world(scene);
   app::BulletWorld bullet(*scene, app::matching_bullet_settings(*scene));
   mismatches = bullet.mismatches();
   const std::int64_t steps = app::scene_steps(*scene);

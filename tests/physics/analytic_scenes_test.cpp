@@ -13,7 +13,7 @@ namespace {
 // Bounce: the k-th apex above the resting height is e^(2k) h_0.
 TEST(ShippedScenes, BounceApexesFollowRestitutionLaw) {
   const auto scene = shipped_scene("bounce.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int ball = body_index(*scene, "ball");
   const Real radius = scene->bodies[ball].shape.radius;
   const Real e = scene->materials[scene->bodies[ball].material].restitution;
@@ -66,7 +66,7 @@ Real combined_friction(const Scene& scene, int a, int b) {
 // Above the friction angle: s = a t^2 / 2, v = a t with a = g (sin theta - mu cos theta).
 TEST(ShippedScenes, InclineSlideMatchesCoulomb) {
   const auto scene = shipped_scene("incline_slide.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int box = body_index(*scene, "box");
   const int incline = body_index(*scene, "incline");
   const auto geometry = incline_of(*scene);
@@ -93,7 +93,7 @@ TEST(ShippedScenes, InclineSlideMatchesCoulomb) {
 // Below the friction angle the box stays put.
 TEST(ShippedScenes, InclineStickHolds) {
   const auto scene = shipped_scene("incline_stick.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int box = body_index(*scene, "box");
   const auto geometry = incline_of(*scene);
   ASSERT_GT(combined_friction(*scene, box, body_index(*scene, "incline")),
@@ -113,7 +113,7 @@ TEST(ShippedScenes, InclineStickHolds) {
 // Free flight follows the exact discrete-time parabola of semi-implicit Euler.
 TEST(ShippedScenes, FreeFlightIsTheDiscreteParabola) {
   const auto scene = shipped_scene("free_flight.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int ball = body_index(*scene, "ball");
   const Vec3 x0 = scene->bodies[ball].position;
   const Vec3 v0 = scene->bodies[ball].velocity;
@@ -137,7 +137,7 @@ TEST(ShippedScenes, FreeFlightIsTheDiscreteParabola) {
 // A torque-free body keeps its angular momentum and never gains kinetic energy.
 TEST(ShippedScenes, TorqueFreeBodyConservesMomentumAndEnergy) {
   const auto scene = shipped_scene("spinning_box.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int box = body_index(*scene, "box");
   const Vec3 l0 = angular_momentum(world.state().bodies[box], world.mass(box));
   const Real e0 = world.kinetic_energy();

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "engine/scene.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::test {
 

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/physics/cache_dropping_run.hpp"
 #include "tests/property_scale.hpp"

@@ -50,7 +50,7 @@ TEST(BroadPhaseChoice, StatisticsOfAScene) {
 }
 
 TEST(BroadPhaseChoice, ShippedScenesAreSmall) {
-  World world(shipped_scene("demo.yaml"));
+  Simulation world(shipped_scene("demo.yaml"));
   EXPECT_EQ(world.broad_phase_type(), BroadPhaseType::brute);
 }
 

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <memory>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 
 namespace tumble::test {
 
@@ -22,8 +22,8 @@ struct AxisCacheUse {
 template <class Drop>
 AxisCacheUse expect_same_bits_without_cache(const std::shared_ptr<const Scene>& scene, int steps,
                                             const Drop& drop) {
-  World cached(scene);
-  World uncached(scene);
+  Simulation cached(scene);
+  Simulation uncached(scene);
   AxisCacheUse use;
   for (int step = 0; step < steps; ++step) {
     State s = uncached.state();

@@ -21,7 +21,7 @@
 #include "collision/broad_phase_factory.hpp"
 #include "collision/ccd/rigid_motion.hpp"
 #include "engine/continuous_collision.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::test {
@@ -141,11 +141,12 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
   // The unpruned search on one thread, the pruned ones on two: the same stops either way.
   const ParallelRunner one_thread(1);
   const ParallelRunner two_threads(2);
+  const std::shared_ptr<const Model> model = Model::build(std::make_shared<const Scene>(c.scene));
   ContinuousCollision every(c.scene);
   every.set_pair_search(ContinuousCollision::PairSearch::every_pair);
   std::vector<BodyState> with_every_pair = c.end;
   const ContinuousCollisionCounts b =
-      every.run(c.scene, c.start, *broad_phase, with_every_pair, masses, one_thread);
+      every.run(*model, c.start, *broad_phase, with_every_pair, masses, one_thread);
   all_pairs += b.candidate_pairs;
   stops += b.stopped_bodies;
 
@@ -155,7 +156,7 @@ void expect_pruning_changes_nothing(const RandomCase& c, BroadPhaseType type, st
     pruned.set_pair_search(search);
     std::vector<BodyState> with_pruning = c.end;
     const ContinuousCollisionCounts a =
-        pruned.run(c.scene, c.start, *broad_phase, with_pruning, masses, two_threads);
+        pruned.run(*model, c.start, *broad_phase, with_pruning, masses, two_threads);
     const char* name =
         search == ContinuousCollision::PairSearch::sort_all ? "sort_all" : "broad_phase";
     EXPECT_EQ(a.swept_bodies, b.swept_bodies) << name;
@@ -231,7 +232,7 @@ TEST(CcdCandidates, TwoFastSpheresHeadOnNeverPassThroughEachOther) {
     Scene s = empty_scene();
     s.bodies.push_back(centimetre_sphere(-dir * gap, 500 * dir));
     s.bodies.push_back(centimetre_sphere(dir * gap + side * (0.007 * unit(rng)), -500 * dir));
-    World world(std::make_shared<const Scene>(std::move(s)));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
     const int steps = 3 + static_cast<int>(std::ceil(gap / 500 / world.scene().world.dt));
     for (int i = 0; i < steps; ++i) {
       const Vec3 r0 = world.state().bodies[1].position - world.state().bodies[0].position;
@@ -271,7 +272,7 @@ TEST(CcdCandidates, FastSphereNeverCrossesADriftingDynamicPlate) {
     plate.mass = 1000;  // heavy: the sphere barely moves it
     plate.inertia = plate.mass * unit_inertia(plate.shape);
     s.bodies.push_back(plate);
-    World world(std::make_shared<const Scene>(std::move(s)));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
     const int steps =
         3 + static_cast<int>(std::ceil(distance / dir.x() / 1000 / world.scene().world.dt));
     for (int i = 0; i < steps; ++i) {

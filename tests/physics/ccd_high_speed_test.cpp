@@ -19,7 +19,7 @@ int scaled_steps(int steps) {
 }
 
 // Bodies whose centre is beyond a wall's outer face (interior half size 50 m, walls 0.5 m).
-int escapes(const World& world) {
+int escapes(const Simulation& world) {
   int out = 0;
   for (std::size_t i = 0; i < world.state().bodies.size(); ++i) {
     if (world.scene().bodies[i].is_static)
@@ -33,7 +33,7 @@ int escapes(const World& world) {
 int run_and_count(CcdMode ccd, int steps, std::int64_t* stopped) {
   auto scene = std::make_shared<Scene>(*shipped_scene("high_speed.yaml"));
   scene->world.ccd = ccd;
-  World world(scene);
+  Simulation world(scene);
   for (int k = 0; k < steps; ++k) {
     world.step();
     if (stopped != nullptr)

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "collision/triangle_mesh.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 
 namespace tumble::test {
@@ -32,7 +32,7 @@ TEST(CcdImpact, AStoppedBodyBouncesByTheRestitution) {
     s.bodies.push_back(static_body("wall", Shape::box(Vec3(0.005, 2, 2)), Vec3::Zero()));
     s.bodies.push_back(
         dynamic_body("bullet", Shape::sphere(0.005), Vec3(-2, 0, 0), Vec3(600, 3, 0), 2));
-    World world(std::make_shared<const Scene>(std::move(s)));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
     world.step();
     EXPECT_EQ(world.last_step_statistics().stopped_bodies, 1) << "e = " << e;
     const BodyState& b = world.state().bodies[1];
@@ -56,7 +56,7 @@ TEST(CcdImpact, AStoppedBodyAndADynamicPartnerShareTheImpulseByMass) {
   BodyDesc block =
       dynamic_body("block", Shape::box(Vec3(0.005, 0.5, 0.5)), Vec3::Zero(), Vec3::Zero(), 6);
   s.bodies.push_back(block);
-  World world(std::make_shared<const Scene>(std::move(s)));
+  Simulation world(std::make_shared<const Scene>(std::move(s)));
   world.step();
   ASSERT_EQ(world.last_step_statistics().stopped_bodies, 1);
   const Real v_bullet = world.state().bodies[0].velocity.x();
@@ -77,7 +77,7 @@ TEST(CcdImpact, ABoxSlidingFastOverAMeshFloorIsNotStopped) {
   s.bodies.push_back(static_body("floor", Shape::triangle_mesh(floor), Vec3::Zero()));
   s.bodies.push_back(
       dynamic_body("box", Shape::box(Vec3(0.5, 0.5, 0.5)), Vec3(-50, 3, 0.501), Vec3(40, 0, 0), 2));
-  World world(std::make_shared<const Scene>(std::move(s)));
+  Simulation world(std::make_shared<const Scene>(std::move(s)));
   std::int64_t swept = 0;
   for (int k = 0; k < 60; ++k) {
     world.step();

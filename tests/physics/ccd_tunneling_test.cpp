@@ -18,7 +18,7 @@
 
 #include "collision/compound_shape.hpp"
 #include "collision/convex_hull.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/physics/scene_fixture.hpp"
 #include "tests/property_scale.hpp"
@@ -75,7 +75,7 @@ int bullets_through_wall(CcdMode ccd, int cases, std::uint64_t seed,
     }
     s.bodies.push_back(mover);
     s.bodies.push_back(static_box("wall", Vec3(0.005, 2, 2), Vec3::Zero()));
-    World world(std::make_shared<const Scene>(std::move(s)));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
     const int steps =
         3 + static_cast<int>(std::ceil(distance / dir.x() / 1000 / world.scene().world.dt));
     // Through: the centre's path in a step (a straight segment between the step's ends)
@@ -157,7 +157,7 @@ int rods_through_plate(CcdMode ccd, int cases, std::uint64_t seed) {
     rod.angular_velocity = spin;
     s.bodies.push_back(rod);
     s.bodies.push_back(static_box("plate", Vec3(0.005, 2, 2), Vec3(plate_x, 0, 0)));
-    World world(std::make_shared<const Scene>(std::move(s)));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
     bool through = false;
     for (int k = 0; k < 30 && !through; ++k) {
       world.step();

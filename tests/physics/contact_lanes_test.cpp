@@ -9,7 +9,7 @@
 
 #include "dynamics/contact_graph.hpp"
 #include "dynamics/contact_solver_wide.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/scene_fixture.hpp"
 
 namespace tumble::test {
@@ -28,7 +28,7 @@ TEST(ContactLanes, EveryInstructionSetGivesTheSameBits) {
   std::printf("[lanes] %d versions on this CPU, widest %d lanes\n", count, versions[0]->lanes);
   int compared = 0;
   for (const char* file : {"demo.yaml", "bench/pyramid_20.yaml", "shapes_drop.yaml"}) {
-    World world(shipped_scene(file));
+    Simulation world(shipped_scene(file));
     for (int k = 0; k < 90; ++k)
       world.step();
     const std::vector<PairContact> contacts(world.contacts().begin(), world.contacts().end());

@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "collision/convex_hull.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/property_scale.hpp"
 
@@ -44,8 +44,8 @@ std::shared_ptr<const Scene> resting_hulls() {
 
 TEST(GjkWarmStartWorld, ChangesAStepOnlyWithinGjksTolerance) {
   const auto scene = resting_hulls();
-  World warm(scene);
-  World cold(scene);
+  Simulation warm(scene);
+  Simulation cold(scene);
   const int steps = scaled(240);
   std::int64_t warm_starts = 0;
   Real position = 0, angle = 0;

@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "collision/convex_hull.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/physics/cache_dropping_run.hpp"
 #include "tests/property_scale.hpp"

@@ -19,7 +19,7 @@ struct Track {
 };
 
 Track slide(std::shared_ptr<const Scene> scene) {
-  World world(scene);
+  Simulation world(scene);
   const int box = body_index(*scene, "box");
   const Real start_height = world.state().bodies[box].position.z();
   Track t;

@@ -1,11 +1,11 @@
-// Loads a shipped scene from scenes/ into a World: the same files users run are the ones the
+// Loads a shipped scene from scenes/ into a Simulation: the same files users run are the ones the
 // acceptance tests check (one scene, several uses).
 #pragma once
 
 #include <memory>
 #include <string>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::test {

@@ -23,7 +23,7 @@ Real lowest_point(const Shape& shape, const BodyState& b) {
 TEST(ShapesDrop, EveryShapeComesToRestOnTheSurfaceUnderIt) {
   const auto scene = shipped_scene("shapes_drop.yaml");
   ASSERT_EQ(scene->bodies[body_index(*scene, "platform")].shape.mesh->triangle_count(), 128);
-  World world(scene);
+  Simulation world(scene);
   const Real e0 = world.kinetic_energy() + world.potential_energy();
   Real worst_gain = -std::numeric_limits<Real>::infinity();
   const int steps = int(std::ceil(scene->world.duration / scene->world.dt));

@@ -9,7 +9,7 @@ namespace {
 // A 10-box stack stands for 10 s: the top box drifts less than 5 mm.
 TEST(ShippedScenes, TenBoxStackStands) {
   const auto scene = shipped_scene("stack10.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int top = body_index(*scene, "box9");
   const Vec3 start = world.state().bodies[top].position;
   const std::int64_t steps = std::llround(10.0 / scene->world.dt);
@@ -28,8 +28,8 @@ TEST(ShippedScenes, TenBoxStackStands) {
 // reset world replays the first run exactly.
 TEST(Determinism, SameSceneSameHashes) {
   const auto scene = shipped_scene("demo.yaml");
-  World first(scene);
-  World second(scene);
+  Simulation first(scene);
+  Simulation second(scene);
   std::vector<std::uint64_t> hashes;
   for (int k = 0; k < 300; ++k) {
     first.step();
@@ -54,7 +54,7 @@ TEST(Determinism, EveryBroadPhaseGivesTheSameSimulation) {
   for (BroadPhaseType type : concrete_broad_phases()) {
     auto scene = std::make_shared<Scene>(*base);
     scene->world.broadphase = type;
-    World world(scene);
+    Simulation world(scene);
     ASSERT_EQ(world.broad_phase_type(), type);
     for (int k = 0; k < 240; ++k) {
       world.step();
@@ -71,14 +71,14 @@ TEST(Determinism, EveryBroadPhaseGivesTheSameSimulation) {
 // A copied state continues exactly as the original (the warm-start cache is part of it).
 TEST(Determinism, RestoredStateContinuesIdentically) {
   const auto scene = shipped_scene("stack10.yaml");
-  World world(scene);
+  Simulation world(scene);
   for (int k = 0; k < 50; ++k)
     world.step();
   const State snapshot = world.state();
   for (int k = 0; k < 50; ++k)
     world.step();
   const std::uint64_t expected = state_hash(world.state());
-  World other(scene);
+  Simulation other(scene);
   other.set_state(snapshot);
   for (int k = 0; k < 50; ++k)
     other.step();

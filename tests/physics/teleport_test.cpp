@@ -1,9 +1,9 @@
-// World::teleport drops the warm-start cache of the moved body's pairs, whose cached contacts
+// Simulation::teleport drops the warm-start cache of the moved body's pairs, whose cached contacts
 // belong to the old pose: the step after a teleport is the step a fresh world takes from the same
 // poses and velocities.
 #include <gtest/gtest.h>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::test {
@@ -19,7 +19,7 @@ bodies:
 
 TEST(Teleport, DropsTheMovedBodysCacheAndStepsLikeAFreshWorld) {
   auto scene = std::make_shared<const Scene>(load_scene_string(kScene, "teleport.yaml"));
-  World world(scene);
+  Simulation world(scene);
   for (int i = 0; i < 100; ++i)
     world.step();
   const auto pairs_with = [&](int body) {
@@ -39,7 +39,7 @@ TEST(Teleport, DropsTheMovedBodysCacheAndStepsLikeAFreshWorld) {
   State stale_state = world.state();
   stale_state.bodies[1].position = target;
   stale_state.bodies[1].orientation = tilt;
-  World stale(scene);
+  Simulation stale(scene);
   stale.set_state(stale_state);
   world.teleport(1, target, tilt);
   EXPECT_EQ(pairs_with(1), 0);
@@ -52,7 +52,7 @@ TEST(Teleport, DropsTheMovedBodysCacheAndStepsLikeAFreshWorld) {
   fresh_scene.bodies[1].orientation = tilt;
   fresh_scene.bodies[1].velocity = world.state().bodies[1].velocity;
   fresh_scene.bodies[1].angular_velocity = world.state().bodies[1].angular_velocity;
-  World fresh(std::make_shared<const Scene>(fresh_scene));
+  Simulation fresh(std::make_shared<const Scene>(fresh_scene));
   world.step();
   fresh.step();
   stale.step();

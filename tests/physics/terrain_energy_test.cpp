@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble::test {
@@ -20,7 +20,7 @@ namespace {
 TEST(TerrainImpacts, BodiesFallingOnTheConvexVsMeshTerrainNeverGainEnergy) {
   auto scene = std::make_shared<const Scene>(load_scene_file(
       std::string(TUMBLE_SOURCE_DIR) + "/tests/data/scenes/convex_vs_mesh_columns.yaml"));
-  World world(scene);
+  Simulation world(scene);
   const Real start_energy = world.kinetic_energy() + world.potential_energy();
   Real energy_before = start_energy;
   Real most_gained = 0;

@@ -12,7 +12,7 @@
 
 #include "collision/convex_hull.hpp"
 #include "collision/triangle_mesh.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/property_scale.hpp"
 
@@ -111,7 +111,7 @@ struct Stepping {
 };
 
 Stepping run(const std::shared_ptr<const Scene>& scene, int threads, int steps) {
-  World world(scene);
+  Simulation world(scene);
   world.set_threads(threads);
   EXPECT_EQ(world.threads(), threads);
   Stepping r;

@@ -40,7 +40,7 @@ int check_box_pairs(const std::string& scene_name, int steps, bool recycling = f
           : *shipped_scene(scene_name));
   edited->world.contact_recycling = recycling;
   const std::shared_ptr<const Scene> scene = edited;
-  World world(scene);
+  Simulation world(scene);
   Real worst_normal = 0;
   Real worst_depth = 0;
   int checked = 0;
@@ -95,9 +95,9 @@ TEST(WorldBoxPairs, EachTouchingBoxPairCarriesItsOwnManifold) {
 // as reference: a normal off by the relative turn, corners off by that turn times the half size).
 TEST(WorldBoxPairs, RecycledManifoldsStayCloseToFreshOnes) {
   Tolerance tolerance;
-  tolerance.normal = World::kRecycleAngle;
+  tolerance.normal = Simulation::kRecycleAngle;
   // Unit cubes: bounding radius 0.866 m.
-  tolerance.depth = (World::kRecycleDistance + World::kRecycleAngle) * 0.866;
+  tolerance.depth = (Simulation::kRecycleDistance + Simulation::kRecycleAngle) * 0.866;
   EXPECT_GT(check_box_pairs("bench/pyramid_20.yaml", 60, true, tolerance), 60 * 150);
   EXPECT_GT(check_box_pairs("demo.yaml", 400, true, tolerance), 100);
 }

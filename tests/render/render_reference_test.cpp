@@ -65,7 +65,7 @@ camera: {position: [3, -3.5, 2.2], target: [0, 0, 0.7], fov: 45}
 
 Image render_scene(const char* yaml, int steps, RenderSettings settings) {
   auto scene = std::make_shared<Scene>(load_scene_string(yaml, "test"));
-  World world(scene);
+  Simulation world(scene);
   for (int i = 0; i < steps; ++i)
     world.step();
   settings.width = 320;

@@ -14,7 +14,7 @@ std::shared_ptr<Scene> defaults_scene(const std::string& name) {
 // Twelve 0.5 m cubes at 60 Hz stand 10 s; the top box moves less than 1 cm.
 TEST(DefaultSettings, TowerOfTwelveStandsTenSeconds) {
   const auto scene = defaults_scene("defaults_tower12.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int top = scene->find_body("box11");
   const StabilityRecord r = run_and_record(world, 10, {top}, 30);
   report("defaults_tower12 (top)", SolverType::impulse, r);
@@ -27,7 +27,7 @@ TEST(DefaultSettings, TowerOfTwelveStandsTenSeconds) {
 // sinks less than 1 cm into the floor, and neither tilts.
 TEST(DefaultSettings, HeavyOnLightOneToFiveHundredStaysApart) {
   const auto scene = defaults_scene("defaults_heavy_on_light.yaml");
-  World world(scene);
+  Simulation world(scene);
   const StabilityRecord r = run_and_record(world, 10, {}, 1);
   report("defaults_heavy_on_light", SolverType::impulse, r);
   EXPECT_TRUE(r.finite);
@@ -39,12 +39,12 @@ TEST(DefaultSettings, HeavyOnLightOneToFiveHundredStaysApart) {
 // sideways.
 TEST(DefaultSettings, StackOfEightAt120HzNeitherSagsNorDrifts) {
   const auto scene = defaults_scene("defaults_stack8_120hz.yaml");
-  World world(scene);
+  Simulation world(scene);
   const int top = scene->find_body("box7");
   const Vec3 start = scene->bodies[std::size_t(top)].position;
   Real sag = 0;
   Real sideways = 0;
-  const StabilityRecord r = run_and_record(world, 5, {top}, 60, [&](const World& w) {
+  const StabilityRecord r = run_and_record(world, 5, {top}, 60, [&](const Simulation& w) {
     const Vec3 p = w.state().bodies[std::size_t(top)].position;
     sag = std::max(sag, start.z() - p.z());
     sideways = std::max(sideways, std::hypot(p.x() - start.x(), p.y() - start.y()));
@@ -59,8 +59,8 @@ TEST(DefaultSettings, StackOfEightAt120HzNeitherSagsNorDrifts) {
 // The same stack 1e5 m from the origin and at the origin: shifted back by the offset, every body
 // is within 1e-6 m of its twin at every step (pair-local collision frames keep the precision).
 TEST(DefaultSettings, StackFarFromTheOriginMatchesTheStackAtIt) {
-  World near(defaults_scene("defaults_stack5_origin.yaml"));
-  World far(defaults_scene("defaults_stack5_far.yaml"));
+  Simulation near(defaults_scene("defaults_stack5_origin.yaml"));
+  Simulation far(defaults_scene("defaults_stack5_far.yaml"));
   const Vec3 offset(1e5, 1e5, 0);
   Real worst = 0;
   const int steps = 300;

@@ -24,7 +24,7 @@ void expect_sane(const StabilityRecord& r) {
 TEST(Stability, NewtonsCradlePassesTheMomentumThrough) {
   for (SolverType solver : kBoth) {
     const auto scene = stability_scene("newtons_cradle.yaml", solver);
-    World world(scene);
+    Simulation world(scene);
     const StabilityRecord r = run_and_record(world, 3, {}, 0);
     report("newtons_cradle", solver, r);
     const Real first = scene->bodies[0].velocity.x();
@@ -84,10 +84,10 @@ TEST(Stability, IntermediateAxisFlipsWithTheTheoreticalPeriod) {
     ASSERT_LT(moments[0], moments[1]);
     ASSERT_LT(moments[1], moments[2]);
     const Real expected = flip_half_period(moments, Vec3(w0.z(), w0.y(), w0.x()));
-    World world(scene);
+    Simulation world(scene);
     std::vector<Real> crossings;
     Real previous = w0.y();
-    const StabilityRecord r = run_and_record(world, 60, {}, 0, [&](const World& w) {
+    const StabilityRecord r = run_and_record(world, 60, {}, 0, [&](const Simulation& w) {
       const BodyState& b = w.state().bodies[0];
       const Real wy = (b.orientation.conjugate() * b.angular_velocity).y();
       if ((wy > 0) != (previous > 0)) {
@@ -112,7 +112,7 @@ TEST(Stability, IntermediateAxisFlipsWithTheTheoreticalPeriod) {
 TEST(Stability, MajorAxisSpinStays) {
   for (SolverType solver : kBoth) {
     const auto scene = stability_scene("spin_major.yaml", solver);
-    World world(scene);
+    Simulation world(scene);
     const BodyDesc& box = scene->bodies[0];
     const Vec3 momentum =
         box.orientation * (box.inertia * (box.orientation.conjugate() * box.angular_velocity));
@@ -122,7 +122,7 @@ TEST(Stability, MajorAxisSpinStays) {
     };
     const Real initial = angle_from_momentum(world.state().bodies[0]);
     Real worst = 0;
-    const StabilityRecord r = run_and_record(world, 60, {}, 0, [&](const World& w) {
+    const StabilityRecord r = run_and_record(world, 60, {}, 0, [&](const Simulation& w) {
       worst = std::max(worst, angle_from_momentum(w.state().bodies[0]));
     });
     std::printf("[stability] spin_major %s axis-to-L angle initial %.3g max %.3g rad\n",
@@ -140,8 +140,8 @@ TEST(Stability, TinyOnHugeFarFromTheOriginAsAtTheOrigin) {
   for (SolverType solver : kBoth) {
     const auto near_scene = stability_scene("tiny_on_huge.yaml", solver);
     const auto far_scene = stability_scene("tiny_on_huge_far.yaml", solver);
-    World near_world(near_scene);
-    World far_world(far_scene);
+    Simulation near_world(near_scene);
+    Simulation far_world(far_scene);
     const int base = near_scene->find_body("base");
     const int tiny = near_scene->find_body("tiny");
     const Vec3 rest = near_scene->bodies[tiny].position - near_scene->bodies[base].position;
@@ -149,11 +149,11 @@ TEST(Stability, TinyOnHugeFarFromTheOriginAsAtTheOrigin) {
     Real worst_sink = 0;
     Real worst_height = 0;
     std::vector<Vec3> near_relative;
-    const StabilityRecord rn = run_and_record(near_world, 5, {}, 0, [&](const World& w) {
+    const StabilityRecord rn = run_and_record(near_world, 5, {}, 0, [&](const Simulation& w) {
       near_relative.push_back(w.state().bodies[tiny].position - w.state().bodies[base].position);
     });
     std::size_t k = 0;
-    const StabilityRecord rf = run_and_record(far_world, 5, {}, 0, [&](const World& w) {
+    const StabilityRecord rf = run_and_record(far_world, 5, {}, 0, [&](const Simulation& w) {
       const Vec3 relative = w.state().bodies[tiny].position - w.state().bodies[base].position;
       worst_difference = std::max(worst_difference, (relative - near_relative[k++]).norm());
       worst_sink = std::max(worst_sink, (relative - rest).norm());
@@ -180,7 +180,7 @@ TEST(Stability, StackIsSaneAtLargeAndTinyTimeSteps) {
   for (const char* file : {"stack5_dt30.yaml", "stack5_dt1e-5.yaml"}) {
     for (SolverType solver : kBoth) {
       const auto scene = stability_scene(file, solver);
-      World world(scene);
+      Simulation world(scene);
       const Real seconds =
           scene->world.duration * (scene->world.dt < 1e-3 ? property_scale() : Real(1));
       const StabilityRecord r = run_and_record(world, seconds, {}, 0);
@@ -200,7 +200,7 @@ TEST(Stability, BounceIsSaneAtLargeAndTinyTimeSteps) {
   for (const char* file : {"bounce_dt30.yaml", "bounce_dt1e-5.yaml"}) {
     for (SolverType solver : kBoth) {
       const auto scene = stability_scene(file, solver);
-      World world(scene);
+      Simulation world(scene);
       const int ball = scene->find_body("ball");
       const Real radius = scene->bodies[ball].shape.radius;
       const Real drop = scene->bodies[ball].position.z() - radius;
@@ -208,7 +208,7 @@ TEST(Stability, BounceIsSaneAtLargeAndTinyTimeSteps) {
       Real highest_after_bounce = 0;
       bool bounced = false;
       const StabilityRecord r =
-          run_and_record(world, scene->world.duration, {}, 0, [&](const World& w) {
+          run_and_record(world, scene->world.duration, {}, 0, [&](const Simulation& w) {
             const BodyState& b = w.state().bodies[ball];
             const Real height = b.position.z() - radius;
             lowest = std::min(lowest, height);

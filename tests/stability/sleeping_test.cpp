@@ -11,7 +11,7 @@ namespace {
 TEST(Sleeping, RestingIslandsSleepAndOnlyTheTouchedOneWakes) {
   for (SolverType solver : {SolverType::impulse, SolverType::penalty}) {
     const auto scene = stability_scene("sleeping_drop.yaml", solver);
-    World world(scene);
+    Simulation world(scene);
     const int a = scene->find_body("a");
     const int b = scene->find_body("b");
     const int c = scene->find_body("c");
@@ -60,7 +60,7 @@ TEST(Sleeping, RestingIslandsSleepAndOnlyTheTouchedOneWakes) {
 // With sleeping on, a copied state (with its sleep records) continues exactly as the original.
 TEST(Sleeping, RestoredStateContinuesIdentically) {
   const auto scene = stability_scene("sleeping_drop.yaml", SolverType::impulse);
-  World world(scene);
+  Simulation world(scene);
   for (int k = 0; k < 100; ++k)  // a and c are asleep by now, b is falling
     world.step();
   ASSERT_NE(world.state().asleep[scene->find_body("c")], 0);
@@ -68,7 +68,7 @@ TEST(Sleeping, RestoredStateContinuesIdentically) {
   for (int k = 0; k < 100; ++k)
     world.step();
   const std::uint64_t expected = state_hash(world.state());
-  World other(scene);
+  Simulation other(scene);
   other.set_state(snapshot);
   for (int k = 0; k < 100; ++k)
     other.step();

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "collision/narrow_phase.hpp"
-#include "engine/world.hpp"
+#include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/property_scale.hpp"
 
@@ -43,7 +43,7 @@ struct StabilityRecord {
 };
 
 // Deepest penetration between any two bodies now.
-inline Real deepest_penetration(const World& world) {
+inline Real deepest_penetration(const Simulation& world) {
   const Scene& scene = world.scene();
   const std::size_t n = scene.bodies.size();
   std::vector<Aabb> boxes(n);
@@ -71,9 +71,9 @@ inline Real deepest_penetration(const World& world) {
 
 // Steps `world` for `seconds`, watching the bodies `watched` (empty: all dynamic ones).
 // `sample_every` steps the penetration is measured; `each_step` (optional) sees every step.
-inline StabilityRecord run_and_record(World& world, Real seconds, std::vector<int> watched,
+inline StabilityRecord run_and_record(Simulation& world, Real seconds, std::vector<int> watched,
                                       int sample_every,
-                                      const std::function<void(const World&)>& each_step = {}) {
+                                      const std::function<void(const Simulation&)>& each_step = {}) {
   const Scene& scene = world.scene();
   if (watched.empty()) {
     for (std::size_t i = 0; i < scene.bodies.size(); ++i)

@@ -28,7 +28,7 @@ int top_body(const Scene& scene) {
 TEST(Stability, TowerOfTwentyStands30Seconds) {
   for (SolverType solver : kBoth) {
     const auto scene = stability_scene("tower20.yaml", solver);
-    World world(scene);
+    Simulation world(scene);
     const Real seconds = 30;
     const StabilityRecord r = run_and_record(world, seconds, {top_body(*scene)}, 60);
     report("tower20 (top box)", solver, r);
@@ -55,7 +55,7 @@ void pyramid_stands(const char* file, const char* label,
                     std::initializer_list<SolverType> solvers) {
   for (SolverType solver : solvers) {
     const auto scene = stability_scene(file, solver);
-    World world(scene);
+    Simulation world(scene);
     const Real length = full_length() ? 10.0 : solver == SolverType::impulse ? 2.0 : 0.5;
     const Real seconds = length * property_scale();
     const StabilityRecord r = run_and_record(world, seconds, {}, 120);
@@ -83,7 +83,7 @@ TEST(Stability, HeavyOnLightStaysApartAndUpright) {
   for (const char* file : {"heavy_on_light_100.yaml", "heavy_on_light_1000.yaml"}) {
     for (SolverType solver : kBoth) {
       const auto scene = stability_scene(file, solver);
-      World world(scene);
+      Simulation world(scene);
       const StabilityRecord r = run_and_record(world, 10, {}, 10);
       report(file, solver, r);
       expect_sane(r);
@@ -101,7 +101,7 @@ TEST(Stability, PenaltyStacksAtAnyStiffnessDoNotBlowUp) {
   for (const char* label : {"1e5", "1e7", "1e9"}) {
     const auto scene =
         stability_scene(std::string("penalty_stack_") + label + ".yaml", SolverType::penalty);
-    World world(scene);
+    Simulation world(scene);
     const StabilityRecord r = run_and_record(world, 10, {top_body(*scene)}, 30);
     report(std::string("penalty_stack_") + label, SolverType::penalty, r);
     expect_sane(r);

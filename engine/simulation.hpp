@@ -1,5 +1,7 @@
-// The world stepper. `World::step` reads as the outline of the algorithm (docs/architecture.md,
-// "One step"); each phase is a named function with its own timer.
+// The world stepper behind tumble::World (include/tumble/world.hpp). `Simulation::step` reads as
+// the outline of the algorithm (docs/architecture.md, "One step"); each phase is a named function
+// with its own timer. Bodies are addressed by slot; the World checks ids and arguments before it
+// calls in here.
 #pragma once
 
 #include <memory>
@@ -16,7 +18,7 @@
 #include "dynamics/penalty_solver.hpp"
 #include "engine/continuous_collision.hpp"
 #include "engine/islands.hpp"
-#include "engine/scene.hpp"
+#include "engine/model.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
 
@@ -29,13 +31,17 @@ struct WorldMemory {
   std::size_t contact_bytes = 0;
 };
 
-class World {
+class Simulation {
  public:
-  explicit World(std::shared_ptr<const Scene> scene);
+  // A simulation of `scene`, compiled without check_scene (tumble::World checks; tests may build
+  // scenes the check would refuse).
+  explicit Simulation(std::shared_ptr<const Scene> scene);
+  explicit Simulation(std::shared_ptr<const Model> model);
 
   const Scene& scene() const { return *scene_; }
+  const Model& model() const { return *model_; }
   const State& state() const { return state_; }
-  const BodyMass& mass(int body) const { return masses_[body]; }
+  const BodyMass& mass(int body) const { return masses_[std::size_t(body)]; }
   // The broad-phase structure in use (the scene's choice, or the one `auto` picked).
   BroadPhaseType broad_phase_type() const { return broad_phase_type_; }
 
@@ -48,6 +54,21 @@ class World {
   // contacts that no longer exist. reset() and set_state() bring their own cache (empty for
   // reset), so they need no such step.
   void teleport(int body, const Vec3& position, const Quat& orientation);
+
+  // Loads for the next step (tumble::World's add_force, add_torque), cleared by it [N, N m].
+  void add_force(int body, const Vec3& force);
+  void add_torque(int body, const Vec3& torque);
+  // Changes the velocities at once: an impulse [N s] at a world point, or new velocities.
+  void apply_impulse(int body, const Vec3& impulse, const Vec3& world_point);
+  void set_velocity(int body, const Vec3& linear, const Vec3& angular);
+  // A kinematic body's pose at the end of the next step.
+  void set_kinematic_target(int body, const Vec3& position, const Quat& orientation);
+  // Wakes a sleeping body (its island wakes with it in the next step).
+  void wake(int body);
+  // Adds a body (in the lowest removed slot, else at the end) and returns its slot; removes one,
+  // leaving its slot empty. Between steps; the broad phase is updated, not rebuilt.
+  int add_body(const BodyDesc& desc);
+  void remove_body(int body);
 
   // Advances by scene().world.dt, in scene().world.substeps equal substeps.
   void step();
@@ -68,6 +89,15 @@ class World {
   std::span<const PairContact> contacts() const { return contacts_; }
 
   WorldMemory memory() const;
+
+  // The body the segment origin + t direction, t in [0, max_distance] (direction unit), meets
+  // first, and where; body -1 when none.
+  struct RayResult {
+    int body = -1;
+    Real distance = 0;
+    Vec3 normal = Vec3::UnitZ();
+  };
+  RayResult ray_cast(const Vec3& origin, const Vec3& direction, Real max_distance) const;
 
   // Totals over all bodies [J]: kinetic, and gravitational potential relative to the origin.
   Real kinetic_energy() const;
@@ -105,18 +135,36 @@ class World {
   void sweep_fast_bodies();
 
   void step_on_runner();
+  void adopt(std::shared_ptr<const Model> model);
+  void resize_body_arrays();
+  void choose_penalty_substeps();
+  void drop_pairs_of(int body);
+  void start_kinematic_motion(Real dt);
+  void move_kinematic_bodies(Real fraction, Real dt);
   template <class Update>
   void for_each_awake_body(int group, const Update& update);
 
-  std::shared_ptr<const Scene> scene_;
+  std::shared_ptr<const Model> model_;
+  const Scene* scene_ = nullptr;  // model_'s scene
   State state_;
   std::unique_ptr<ParallelRunner> runner_;
 
-  // Fixed per scene.
-  std::vector<BodyMass> masses_;
-  std::vector<Real> bounding_radii_;
-  std::vector<bool> flat_shape_;        // recycles its manifolds (collide_candidate_pairs)
-  std::vector<Transform> shape_poses_;  // scratch, current pose per body
+  // Fixed per model (views of model_).
+  std::span<const BodyMass> masses_;
+  std::span<const Real> bounding_radii_;
+  std::span<const std::uint8_t> flat_shape_;  // recycles its manifolds (collide_candidate_pairs)
+  std::vector<Transform> shape_poses_;        // scratch, current pose per body
+  // Loads for the next step: per body, its force and torque and whether it has any.
+  std::vector<Vec3> force_;
+  std::vector<Vec3> torque_;
+  std::vector<std::uint8_t> loaded_;
+  std::vector<std::int32_t> loaded_bodies_;
+  // Kinematic bodies: their slots, their poses at the start of the step, and the targets set for
+  // the next step (has_target_ per body).
+  std::vector<std::int32_t> kinematic_bodies_;
+  std::vector<Transform> kinematic_start_;
+  std::vector<Transform> kinematic_target_;
+  std::vector<std::uint8_t> has_target_;
   BroadPhaseType broad_phase_type_ = BroadPhaseType::brute;
   std::unique_ptr<BroadPhase> broad_phase_;
 

@@ -1,24 +1,32 @@
-// A Scene is what a world *is*: settings, materials and body descriptions. It is constant while
-// the world steps; everything a step changes lives in `State` (state.hpp). This split (MuJoCo's
-// model/data) makes reset, copy, hashing, replay and batches of worlds cheap.
+// The settings of a world: time step, solver, collision and sleeping. Every setting has a unit
+// and a default; docs/scene-format.md states them and what breaks when they are wrong.
 #pragma once
 
 #include <cstdint>
 #include <optional>
-#include <string>
-#include <vector>
 
-#include "collision/broad_phase.hpp"
-#include "collision/math.hpp"
-#include "collision/shape.hpp"
+#include "tumble/math.hpp"
 
 namespace tumble {
+
+// The structures tumble has (docs/broad-phase.md, "The structures"). `automatic` lets the engine
+// choose from the scene's statistics.
+enum class BroadPhaseType : std::uint8_t {
+  automatic,
+  brute,   // all pairs, O(n^2)
+  sap,     // incremental sweep and prune on three axes
+  hash,    // spatial hash
+  bvh,     // dynamic AABB tree
+  lbvh,    // linear BVH from Morton codes, rebuilt every step
+  octree,  // loose octree
+  kdtree,  // k-d tree with SAH splits
+  grid,    // uniform grid
+  hgrid,   // hierarchical grid
+};
 
 enum class SolverType : std::uint8_t { impulse, penalty };
 enum class CcdMode : std::uint8_t { automatic, on, off };
 
-// Every setting has a unit and a default; docs/scene-format.md states them and what breaks when
-// they are wrong.
 struct WorldSettings {
   Vec3 gravity{0, 0, Real(-9.81)};  // m/s^2
   Real dt = Real(1) / 60;           // s, one step
@@ -73,54 +81,6 @@ struct WorldSettings {
   // Threads a step may use (`auto`, stored as 0: the machine's cores). The results are the same
   // bits on any count (docs/architecture.md, "Threads").
   int threads = 0;
-};
-
-// Contact material. Pairs combine friction by the geometric mean and restitution by the maximum.
-struct Material {
-  std::string name;
-  Real friction = Real(0.5);  // Coulomb coefficient [1]
-  Real restitution = 0;       // [1], 0 = plastic, 1 = elastic
-  // Penalty solver only (docs/stability.md): the contact spring and damper of a pair, the
-  // smaller stiffness and the larger damping of the two materials, shared among the manifold's
-  // points.
-  Real stiffness = 1e6;  // k [N/m]
-  Real damping = 1e3;    // c [N s/m]
-};
-
-// A pair's restitution: the larger of its two materials'.
-inline Real combined_restitution(const Material& a, const Material& b) {
-  return a.restitution > b.restitution ? a.restitution : b.restitution;
-}
-
-struct BodyDesc {
-  std::string name;
-  Shape shape;
-  Vec3 position = Vec3::Zero();          // m, centre of mass
-  Quat orientation = Quat::Identity();   // unit, body to world
-  Vec3 velocity = Vec3::Zero();          // m/s
-  Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
-  Real mass = 0;                         // kg; 0 for static bodies
-  Mat3 inertia = Mat3::Zero();           // kg m^2 about the centre of mass, body frame
-  int material = 0;                      // index into Scene::materials
-  bool is_static = false;
-  bool fast = false;  // always swept by continuous collision detection
-};
-
-struct Camera {
-  Vec3 position{6, -6, 4};  // m
-  Vec3 target{0, 0, 1};     // m
-  Real fov = 45;            // vertical field of view, degrees
-};
-
-struct Scene {
-  std::string source;  // where the scene came from (file path), for messages
-  WorldSettings world;
-  std::vector<Material> materials;  // materials[0] is "default"
-  std::vector<BodyDesc> bodies;
-  std::optional<Camera> camera;
-
-  int find_body(std::string_view name) const;
-  int find_material(std::string_view name) const;
 };
 
 }  // namespace tumble

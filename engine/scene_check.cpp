@@ -1,0 +1,217 @@
+// check_scene (include/tumble/model.hpp): every field of a Scene against the ranges of
+// engine/scene_limits.hpp, the same table the YAML loader reads with, so that a scene built in
+// code gets the message a file with the same value gets (without a line: there is none).
+#include <Eigen/Eigenvalues>
+
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <unordered_set>
+
+#include "engine/scene_check.hpp"
+#include "engine/scene_limits.hpp"
+#include "tumble/error.hpp"
+#include "tumble/model.hpp"
+
+namespace tumble {
+namespace {
+
+using namespace scene_limits;
+
+std::string number_text(Real v) {
+  if (std::isnan(v))
+    return "nan";
+  if (std::isinf(v))
+    return v > 0 ? "inf" : "-inf";
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, result.ptr);
+}
+
+class Checker {
+ public:
+  explicit Checker(const Scene& scene) : scene_(scene) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
+    throw SceneError(scene_.source.empty() ? std::string("scene") : scene_.source, 0, 0, field,
+                     reason);
+  }
+
+  void real(Real v, const RealSpec& spec, const std::string& field) const {
+    const bool above = spec.lo_open ? v > spec.lo : v >= spec.lo;
+    if (std::isfinite(v) && above && v <= spec.hi)
+      return;
+    std::string reason = "expected " + std::string(spec.what);
+    if (!spec.range.empty())
+      reason += " (" + std::string(spec.range) + ")";
+    fail(field, reason + ", got " + number_text(v));
+  }
+
+  void integer(std::int64_t v, const IntSpec& spec, const std::string& field) const {
+    if (v >= spec.lo && v <= spec.hi)
+      return;
+    fail(field, "expected " + std::string(spec.what) + " (" + std::string(spec.range) + "), got " +
+                    std::to_string(v));
+  }
+
+  void vector(const Vec3& v, const RealSpec& spec, const std::string& field) const {
+    for (int k = 0; k < 3; ++k)
+      real(v[k], spec, field + "[" + std::to_string(k) + "]");
+  }
+
+  void orientation(const Quat& q, const std::string& field) const {
+    for (int k = 0; k < 4; ++k)
+      real(q.coeffs()[k], kQuatComponent, field);
+    if (!(std::abs(q.norm() - 1) <= kQuatTolerance))
+      fail(field, "expected a unit quaternion (| |q| - 1 | <= 1e-6), got one of norm " +
+                      number_text(q.norm()));
+  }
+
+  void world(const WorldSettings& w) const {
+    vector(w.gravity, kAcceleration, "world.gravity");
+    real(w.dt, kTimeStep, "world.dt");
+    real(w.duration, kDuration, "world.duration");
+    if (w.steps)
+      integer(*w.steps, kSteps, "world.steps");
+    integer(w.substeps, kSubsteps, "world.substeps");
+    integer(w.max_substeps, kSubsteps, "world.max_substeps");
+    if (w.solver != SolverType::impulse && w.solver != SolverType::penalty)
+      fail("world.solver", "expected one of: impulse, penalty");
+    integer(w.iterations, kIterations, "world.iterations");
+    integer(w.relax_iterations, kRelaxIterations, "world.relax_iterations");
+    if (static_cast<int>(w.broadphase) > static_cast<int>(BroadPhaseType::hgrid))
+      fail("world.broadphase",
+           "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, "
+           "kdtree, grid, hgrid");
+    if (static_cast<int>(w.ccd) > static_cast<int>(CcdMode::off))
+      fail("world.ccd", "expected one of: auto, on, off");
+    real(w.contact_margin, kDistance, "world.contact_margin");
+    real(w.penetration_slop, kDistance, "world.penetration_slop");
+    if (w.contact_hertz)
+      real(*w.contact_hertz, kFrequency, "world.contact_hertz");
+    real(w.sag_tolerance, kSagTolerance, "world.sag_tolerance");
+    real(w.contact_damping_ratio, kDampingRatio, "world.contact_damping_ratio");
+    real(w.max_push_velocity, kPushSpeed, "world.max_push_velocity");
+    real(w.restitution_threshold, kSpeedThreshold, "world.restitution_threshold");
+    real(w.sleep_speed, kPushSpeed, "world.sleep_speed");
+    real(w.sleep_time, kDuration, "world.sleep_time");
+    if (w.threads != 0)
+      integer(w.threads, kThreads, "world.threads");
+    if (!w.steps && !(std::ceil(w.duration / w.dt) <= static_cast<Real>(kMaxSteps)))
+      fail("world.duration",
+           "duration / dt gives more than 1e9 steps (raise dt or shorten "
+           "duration)");
+  }
+
+  void material(const Material& m, const std::string& field) const {
+    real(m.friction, kFriction, field + ".friction");
+    real(m.restitution, kRestitution, field + ".restitution");
+    real(m.stiffness, kStiffness, field + ".stiffness");
+    real(m.damping, kDamping, field + ".damping");
+  }
+
+  void shape(const Shape& s, const std::string& field) const {
+    switch (s.type) {
+      case ShapeType::sphere:
+        real(s.radius, kSize, field + ".radius");
+        return;
+      case ShapeType::box:
+        vector(s.half_extents, kSize, field + ".half_extents");
+        return;
+      case ShapeType::capsule:
+        real(s.radius, kSize, field + ".radius");
+        real(s.half_length, kHalfLength, field + ".half_length");
+        return;
+      case ShapeType::cylinder:
+        real(s.radius, kSize, field + ".radius");
+        real(s.half_length, kSize, field + ".half_length");
+        return;
+      case ShapeType::plane:
+        return;
+      case ShapeType::hull:
+        if (!s.hull)
+          fail(field, "a hull shape without its hull (build it with tumble::hull_from_points)");
+        return;
+      case ShapeType::mesh:
+        if (!s.mesh)
+          fail(field, "a mesh shape without its mesh (build it with tumble::mesh_from_triangles)");
+        return;
+      case ShapeType::compound:
+        if (!s.compound)
+          fail(field,
+               "a compound shape without its parts (build it with tumble::compound_from_parts)");
+        return;
+    }
+    fail(field + ".type", "unknown shape type " + std::to_string(static_cast<int>(s.type)));
+  }
+
+  void body(const BodyDesc& b, const std::string& field, std::size_t materials) const {
+    if (b.name.size() > kMaxNameLength)
+      fail(field + ".name",
+           "a name of at most 256 characters, got " + std::to_string(b.name.size()));
+    shape(b.shape, field + ".shape");
+    vector(b.position, kCoordinate, field + ".position");
+    orientation(b.orientation, field + ".orientation");
+    vector(b.velocity, kVelocity, field + ".velocity");
+    vector(b.angular_velocity, kAngularVelocity, field + ".angular_velocity");
+    if (b.material < 0 || std::size_t(b.material) >= std::max<std::size_t>(materials, 1))
+      fail(field + ".material", "expected an index into the scene's " + std::to_string(materials) +
+                                    " materials, got " + std::to_string(b.material));
+    if (b.is_static && b.kinematic)
+      fail(field + ".kinematic", "a body is static or kinematic, not both");
+    const bool unbounded = b.shape.type == ShapeType::plane || b.shape.type == ShapeType::mesh;
+    if (unbounded && !b.is_static)
+      fail(field + ".static", std::string("a ") +
+                                  (b.shape.type == ShapeType::plane ? "plane" : "mesh") +
+                                  " can only be static; set is_static");
+    if (b.is_static || b.kinematic)
+      return;
+    real(b.mass, kMass, field + ".mass");
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        real(b.inertia(r, c), RealSpec{"a finite moment in kg m^2", "", -kMaxMoment, kMaxMoment},
+             field + ".inertia");
+    if (!((b.inertia - b.inertia.transpose()).cwiseAbs().maxCoeff() <=
+          1e-9 * b.inertia.cwiseAbs().maxCoeff()))
+      fail(field + ".inertia", "expected a symmetric inertia tensor");
+    const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues();
+    for (int k = 0; k < 3; ++k)
+      real(moments[k], kMoment, field + ".inertia (principal moment " + std::to_string(k) + ")");
+  }
+
+  void scene() const {
+    world(scene_.world);
+    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+      material(scene_.materials[m], "materials[" + std::to_string(m) + "]");
+    if (scene_.bodies.size() > kMaxBodies)
+      fail("bodies", "at most 1000000 bodies, got " + std::to_string(scene_.bodies.size()));
+    std::unordered_set<std::string_view> names;
+    for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
+      const BodyDesc& b = scene_.bodies[i];
+      const std::string field = "bodies[" + std::to_string(i) + "]";
+      body(b, field, scene_.materials.size());
+      if (!b.name.empty() && !names.insert(b.name).second)
+        fail(field + ".name", "duplicate body name '" + b.name + "'");
+    }
+    if (scene_.camera) {
+      vector(scene_.camera->position, kCoordinate, "camera.position");
+      vector(scene_.camera->target, kCoordinate, "camera.target");
+      real(scene_.camera->fov, kFov, "camera.fov");
+    }
+  }
+
+ private:
+  const Scene& scene_;
+};
+
+}  // namespace
+
+void check_scene(const Scene& scene) {
+  Checker(scene).scene();
+}
+
+void check_body(const Scene& scene, const BodyDesc& body, std::size_t slot) {
+  Checker(scene).body(body, "bodies[" + std::to_string(slot) + "]", scene.materials.size());
+}
+
+}  // namespace tumble

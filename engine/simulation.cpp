@@ -1,0 +1,1161 @@
+#include "engine/simulation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <numbers>
+#include <type_traits>
+#include <utility>
+
+#include "collision/box_axis_cache.hpp"
+#include "collision/broad_phase_factory.hpp"
+#include "collision/ccd/ray_cast.hpp"
+#include "collision/manifold_recycling.hpp"
+#include "collision/narrow_phase.hpp"
+#include "collision/pairs/pairs.hpp"
+#include "collision/sphere_batch.hpp"
+#include "engine/broad_phase_choice.hpp"
+
+namespace tumble {
+namespace {
+
+// The entry of `sorted` (a list sorted by pair) for the pair (a, b), or null. The cursor only
+// moves forward, so candidates visited in pair order find all their entries in one walk.
+template <class Entry>
+const Entry* find_pair(const std::vector<Entry>& sorted, std::size_t& cursor, std::int32_t a,
+                       std::int32_t b) {
+  while (cursor < sorted.size() &&
+         std::pair{sorted[cursor].body_a, sorted[cursor].body_b} < std::pair{a, b})
+    ++cursor;
+  return cursor < sorted.size() && sorted[cursor].body_a == a && sorted[cursor].body_b == b
+             ? &sorted[cursor]
+             : nullptr;
+}
+
+// Drops the entries of `list` whose pair has `body` in it.
+template <class Entry>
+void erase_pairs_of(std::vector<Entry>& list, int body) {
+  std::erase_if(list, [body](const Entry& e) { return e.body_a == body || e.body_b == body; });
+}
+
+// Times one stage of the step, or one phase of the solve stage (which counts toward the stage
+// too). A stage is reported as run once a timer has been made for it, unless the timer is told
+// that the stage had nothing to do.
+class StageTimer {
+ public:
+  StageTimer(StepStatistics& stats, Stage stage)
+      : stats_(stats), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {
+    stats_.ran[std::size_t(stage_)] = true;
+  }
+  StageTimer(StepStatistics& stats, SolvePhase phase) : StageTimer(stats, Stage::solve) {
+    phase_ = static_cast<int>(phase);
+  }
+  ~StageTimer() {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    stats_.seconds[std::size_t(stage_)] += seconds;
+    if (phase_ >= 0)
+      stats_.solve_phase_seconds[std::size_t(phase_)] += seconds;
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+  // The stage's time still counts, but it is not reported as run (for this step).
+  void had_nothing_to_do(bool ran_before) { stats_.ran[std::size_t(stage_)] = ran_before; }
+
+ private:
+  StepStatistics& stats_;
+  int stage_;
+  int phase_ = -1;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Work per chunk on the runner's threads: enough that a chunk outweighs handing it over.
+constexpr std::int32_t kBodiesPerChunk = 128;
+constexpr std::int32_t kPairsPerChunk = 32;
+constexpr std::int32_t kBoxPairsPerChunk = 128;
+
+Transform pose_of(const BodyState& b) {
+  return {b.position, b.orientation};
+}
+
+}  // namespace
+
+Simulation::Simulation(std::shared_ptr<const Scene> scene)
+    : Simulation(Model::build(std::move(scene))) {}
+
+Simulation::Simulation(std::shared_ptr<const Model> model)
+    : runner_(std::make_unique<ParallelRunner>(model->scene().world.threads)) {
+  solver_.set_runner(runner_.get());
+  // At most one group per doubling of the substeps (a count is a power of two times the base,
+  // at most 1000): room for all of them now, so that a new group never allocates mid-run.
+  constexpr std::size_t kMostGroups = 11;
+  group_settings_.reserve(kMostGroups);
+  group_body_start_.reserve(kMostGroups + 1);
+  group_fill_.reserve(kMostGroups + 1);
+  broad_phase_type_ = choose_broad_phase(model->scene().world.broadphase, model->scene());
+  adopt(std::move(model));
+  set_state(initial_state(*scene_));
+}
+
+// Takes a (new) model: its views, the per-body scratch, the penalty substeps and continuous
+// collision follow it.
+void Simulation::adopt(std::shared_ptr<const Model> model) {
+  model_ = std::move(model);
+  scene_ = &model_->scene();
+  masses_ = model_->masses();
+  bounding_radii_ = model_->bounding_radii();
+  flat_shape_ = model_->flat_shape();
+  const std::size_t n = scene_->bodies.size();
+  carries_.resize(n);
+  speculative_margin_.resize(n);
+  shape_poses_.resize(n);
+  force_.resize(n, Vec3::Zero());
+  torque_.resize(n, Vec3::Zero());
+  loaded_.resize(n, 0);
+  kinematic_target_.resize(n);
+  has_target_.resize(n, 0);
+  kinematic_bodies_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (model_->is_kinematic(i))
+      kinematic_bodies_.push_back(static_cast<std::int32_t>(i));
+  }
+  kinematic_start_.resize(kinematic_bodies_.size());
+  choose_penalty_substeps();
+  continuous_.reset();
+  if (auto ccd = std::make_unique<ContinuousCollision>(*scene_); ccd->enabled())
+    continuous_ = std::move(ccd);
+}
+
+void Simulation::choose_penalty_substeps() {
+  penalty_substeps_ = std::max(1, scene_->world.substeps);
+  if (scene_->world.solver != SolverType::penalty)
+    return;
+  Real stiffest = 0;
+  for (const Material& m : scene_->materials)
+    stiffest = std::max(stiffest, m.stiffness);
+  Real lightest = 0;
+  for (const BodyMass& m : masses_)
+    lightest = std::max(lightest, m.inverse_mass);
+  // omega = sqrt(k / m); explicit symplectic Euler needs h omega < 2.
+  const Real omega = std::sqrt(stiffest * lightest);
+  const Real wanted = std::ceil(scene_->world.dt * omega / 2);
+  if (wanted > penalty_substeps_)
+    penalty_substeps_ = static_cast<int>(std::min<Real>(wanted, kMaxPenaltySubsteps));
+}
+
+void Simulation::set_threads(int threads) {
+  runner_ = std::make_unique<ParallelRunner>(threads);
+  solver_.set_runner(runner_.get());
+}
+
+void Simulation::set_state(const State& state) {
+  state_ = state;
+  // A state made by hand may leave the sleep records out: nothing sleeps then.
+  state_.slow_time.resize(state_.bodies.size(), 0);
+  state_.asleep.resize(state_.bodies.size(), 0);
+  state_.substep_level.resize(state_.bodies.size(), 0);
+  state_.substep_hold.resize(state_.bodies.size(), 0);
+  rebuild_broad_phase();
+}
+
+void Simulation::teleport(int body, const Vec3& position, const Quat& orientation) {
+  BodyState& b = state_.bodies[std::size_t(body)];
+  b.position = position;
+  b.orientation = orientation.normalized();
+  drop_pairs_of(body);
+  rebuild_broad_phase();
+}
+
+// The kept caches of every pair the body is in.
+void Simulation::drop_pairs_of(int body) {
+  erase_pairs_of(state_.contacts, body);
+  erase_pairs_of(state_.manifolds, body);
+  erase_pairs_of(state_.box_axes, body);
+  erase_pairs_of(state_.gjk_caches, body);
+  erase_pairs_of(state_.hull_axes, body);
+}
+
+void Simulation::wake(int body) {
+  state_.asleep[std::size_t(body)] = 0;
+  state_.slow_time[std::size_t(body)] = 0;
+}
+
+void Simulation::add_force(int body, const Vec3& force) {
+  const std::size_t i = std::size_t(body);
+  if (loaded_[i] == 0) {
+    loaded_[i] = 1;
+    loaded_bodies_.push_back(body);
+  }
+  force_[i] += force;
+  wake(body);
+}
+
+void Simulation::add_torque(int body, const Vec3& torque) {
+  add_force(body, Vec3::Zero());
+  torque_[std::size_t(body)] += torque;
+}
+
+void Simulation::apply_impulse(int body, const Vec3& impulse, const Vec3& world_point) {
+  BodyState& b = state_.bodies[std::size_t(body)];
+  const BodyMass& m = masses_[std::size_t(body)];
+  const Mat3 r = b.orientation.toRotationMatrix();
+  b.velocity += impulse * m.inverse_mass;
+  b.angular_velocity +=
+      r * (m.inverse_inertia * (r.transpose() * (world_point - b.position).cross(impulse)));
+  wake(body);
+}
+
+void Simulation::set_velocity(int body, const Vec3& linear, const Vec3& angular) {
+  BodyState& b = state_.bodies[std::size_t(body)];
+  b.velocity = linear;
+  b.angular_velocity = angular;
+  wake(body);
+}
+
+void Simulation::set_kinematic_target(int body, const Vec3& position, const Quat& orientation) {
+  kinematic_target_[std::size_t(body)] = {position, orientation.normalized()};
+  has_target_[std::size_t(body)] = 1;
+}
+
+int Simulation::add_body(const BodyDesc& desc) {
+  std::size_t slot = scene_->bodies.size();
+  for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {
+    if (model_->is_removed(i)) {
+      slot = i;
+      break;
+    }
+  }
+  adopt(model_->with_body(desc, slot));
+  const std::size_t n = scene_->bodies.size();
+  state_.bodies.resize(n);
+  state_.slow_time.resize(n, 0);
+  state_.asleep.resize(n, 0);
+  state_.substep_level.resize(n, 0);
+  state_.substep_hold.resize(n, 0);
+  state_.bodies[slot] = {desc.position, desc.orientation.normalized(), desc.velocity,
+                         desc.angular_velocity};
+  state_.slow_time[slot] = 0;
+  state_.asleep[slot] = 0;
+  state_.substep_level[slot] = 0;
+  state_.substep_hold[slot] = 0;
+  broad_phase_->insert(static_cast<std::int32_t>(slot),
+                       world_aabb(desc.shape, pose_of(state_.bodies[slot])), desc.is_static);
+  return static_cast<int>(slot);
+}
+
+void Simulation::remove_body(int body) {
+  const std::size_t i = std::size_t(body);
+  broad_phase_->remove(body);
+  drop_pairs_of(body);
+  const auto involves = [body](const auto& e) { return e.body_a == body || e.body_b == body; };
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    if (involves(contacts_[c]))
+      continue;
+    contacts_[kept] = contacts_[c];
+    if (c < penalty_springs_.size())
+      penalty_springs_[kept] = penalty_springs_[c];
+    ++kept;
+  }
+  contacts_.resize(kept);
+  penalty_springs_.resize(std::min(penalty_springs_.size(), kept));
+  std::erase_if(candidate_pairs_,
+                [body](const ProxyPair& p) { return p.a == body || p.b == body; });
+  adopt(model_->without_body(i));
+  state_.bodies[i].velocity.setZero();
+  state_.bodies[i].angular_velocity.setZero();
+  state_.slow_time[i] = 0;
+  state_.asleep[i] = 0;
+  state_.substep_level[i] = 0;
+  state_.substep_hold[i] = 0;
+  force_[i].setZero();
+  torque_[i].setZero();
+  has_target_[i] = 0;
+}
+
+void Simulation::rebuild_broad_phase() {
+  broad_phase_ = make_broad_phase(broad_phase_type_);
+  for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {
+    if (model_->is_removed(i))
+      continue;
+    const BodyDesc& d = scene_->bodies[i];
+    broad_phase_->insert(static_cast<std::int32_t>(i),
+                         world_aabb(d.shape, pose_of(state_.bodies[i])), d.is_static);
+  }
+}
+
+// A kinematic body moves with the constant velocity that takes it to its target within the step
+// (the target's rotation the short way round); without a target it keeps its velocity.
+void Simulation::start_kinematic_motion(Real dt) {
+  for (std::size_t k = 0; k < kinematic_bodies_.size(); ++k) {
+    const std::size_t i = std::size_t(kinematic_bodies_[k]);
+    BodyState& b = state_.bodies[i];
+    kinematic_start_[k] = pose_of(b);
+    if (has_target_[i] == 0)
+      continue;
+    const Transform& target = kinematic_target_[i];
+    b.velocity = (target.translation - b.position) / dt;
+    Quat turn = target.rotation * b.orientation.conjugate();
+    if (turn.w() < 0)
+      turn.coeffs() = -turn.coeffs();
+    const Real sine = turn.vec().norm();
+    const Real angle = 2 * std::atan2(sine, turn.w());
+    b.angular_velocity = sine > 0 ? Vec3(turn.vec() * (angle / (sine * dt))) : Vec3::Zero();
+  }
+}
+
+// Kinematic bodies at `fraction` of the step (exactly at their targets at its end), so that the
+// solver's separations see them move through the substeps.
+void Simulation::move_kinematic_bodies(Real fraction, Real dt) {
+  for (std::size_t k = 0; k < kinematic_bodies_.size(); ++k) {
+    const std::size_t i = std::size_t(kinematic_bodies_[k]);
+    BodyState& b = state_.bodies[i];
+    if (fraction >= 1 && has_target_[i] != 0) {
+      b.position = kinematic_target_[i].translation;
+      b.orientation = kinematic_target_[i].rotation;
+      continue;
+    }
+    const Transform& start = kinematic_start_[k];
+    const Real t = fraction * dt;
+    b.position = start.translation + b.velocity * t;
+    const Real speed = b.angular_velocity.norm();
+    b.orientation =
+        speed > 0
+            ? (Quat(Eigen::AngleAxis<Real>(speed * t, b.angular_velocity / speed)) * start.rotation)
+                  .normalized()
+            : start.rotation;
+  }
+}
+
+// One step, as docs/architecture.md tells it, for both solvers. Collision runs once; the solver
+// then runs, group of islands by group, substeps of velocity integration, warm start and soft
+// passes, position integration, relax passes and restitution (the soft step; the penalty solver
+// iterates its springs instead and has no relax); continuous collision then stops fast bodies at
+// their first time of impact (engine/continuous_collision.hpp), and the impulses are kept for
+// the next step.
+void Simulation::step() {
+  const std::int64_t split_before = runner_->split_loops();
+  runner_->run([this] { step_on_runner(); });
+  last_step_.split_loops = runner_->split_loops() - split_before;
+}
+
+void Simulation::step_on_runner() {
+  current_ = StepStatistics{};
+  const WorldSettings& w = scene_->world;
+  start_kinematic_motion(w.dt);
+  update_bounds(w.dt);
+  find_candidate_pairs();
+  collide_candidate_pairs();
+  wake_touched_islands();
+  prepare_contacts();
+  for (int g = 0; g < static_cast<int>(group_settings_.size()); ++g) {
+    const ContactSolverSettings& group = group_settings_[std::size_t(g)];
+    for (int s = 0; s < group.substeps; ++s) {
+      integrate_velocities(g, group.substep);
+      solve_contacts(g);
+      integrate_positions(g, group.substep);
+      move_kinematic_bodies(Real(s + 1) / Real(group.substeps), w.dt);
+      relax_contacts(g);
+    }
+  }
+  move_kinematic_bodies(1, w.dt);
+  for (const std::int32_t i : kinematic_bodies_)
+    has_target_[std::size_t(i)] = 0;
+  for (const std::int32_t i : loaded_bodies_) {
+    force_[std::size_t(i)].setZero();
+    torque_[std::size_t(i)].setZero();
+    loaded_[std::size_t(i)] = 0;
+  }
+  loaded_bodies_.clear();
+  sweep_fast_bodies();
+  finish_contacts();
+  update_sleep(w.dt);
+
+  state_.step += 1;
+  // Time is counted in steps, not summed, so that it does not drift by rounding.
+  state_.time = static_cast<Real>(state_.step) * w.dt;
+  last_step_ = current_;
+}
+
+// Islands of this step's contact graph (static bodies excluded). An island with one awake body
+// wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, so a
+// sleeping island costs collision only. Their warm-start impulses are dropped: a woken island
+// restarts its impulses from zero.
+void Simulation::wake_touched_islands() {
+  if (!scene_->world.sleeping)
+    return;
+  StageTimer timer(current_, SolvePhase::islands_and_sleep);
+  const std::size_t n = state_.bodies.size();
+  islands_.reset(n);
+  const Model& model = *model_;
+  for (const PairContact& pc : contacts_) {
+    if (!model.is_fixed(std::size_t(pc.body_a)) && !model.is_fixed(std::size_t(pc.body_b)))
+      islands_.join(pc.body_a, pc.body_b);
+  }
+  island_awake_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!model.is_fixed(i) && state_.asleep[i] == 0)
+      island_awake_[islands_.root(static_cast<std::int32_t>(i))] = 1;
+  }
+  // A moving kinematic body wakes what it touches.
+  for (const PairContact& pc : contacts_) {
+    for (const auto& [k, other] :
+         {std::pair{pc.body_a, pc.body_b}, std::pair{pc.body_b, pc.body_a}}) {
+      const BodyState& kb = state_.bodies[std::size_t(k)];
+      if (model.is_kinematic(std::size_t(k)) && !model.is_fixed(std::size_t(other)) &&
+          (kb.velocity.squaredNorm() > 0 || kb.angular_velocity.squaredNorm() > 0))
+        island_awake_[islands_.root(other)] = 1;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (state_.asleep[i] != 0 && island_awake_[islands_.root(static_cast<std::int32_t>(i))]) {
+      state_.asleep[i] = 0;
+      state_.slow_time[i] = 0;
+    }
+  }
+  const auto inactive = [&](std::int32_t b) {
+    return model.is_fixed(std::size_t(b)) || state_.asleep[b] != 0;
+  };
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    if (inactive(contacts_[c].body_a) && inactive(contacts_[c].body_b))
+      continue;
+    contacts_[kept] = contacts_[c];
+    penalty_springs_[kept] = penalty_springs_[c];
+    ++kept;
+  }
+  contacts_.resize(kept);
+  penalty_springs_.resize(kept);
+}
+
+// A body is slow when |v| + |w| r is below the sleep speed; an island whose bodies have all
+// been slow for the sleep time falls asleep at rest.
+void Simulation::update_sleep(Real dt) {
+  const WorldSettings& w = scene_->world;
+  if (!w.sleeping)
+    return;
+  StageTimer timer(current_, SolvePhase::islands_and_sleep);
+  const std::size_t n = state_.bodies.size();
+  const Model& model = *model_;
+  island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (model.is_fixed(i) || state_.asleep[i] != 0)
+      continue;
+    const BodyState& b = state_.bodies[i];
+    const Real speed = b.velocity.norm() + b.angular_velocity.norm() * bounding_radii_[i];
+    state_.slow_time[i] = speed < w.sleep_speed ? state_.slow_time[i] + dt : Real(0);
+    Real& least = island_slow_time_[islands_.root(static_cast<std::int32_t>(i))];
+    least = std::min(least, state_.slow_time[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (model.is_fixed(i) || state_.asleep[i] != 0)
+      continue;
+    if (island_slow_time_[islands_.root(static_cast<std::int32_t>(i))] >= w.sleep_time) {
+      state_.asleep[i] = 1;
+      state_.bodies[i].velocity.setZero();
+      state_.bodies[i].angular_velocity.setZero();
+    }
+  }
+}
+
+// Fast bodies are swept from their pose at the start of the step (shape_poses_, set by
+// update_bounds) to where the solver put them; the stage is reported as run only in steps where a
+// swept body had a candidate to be tested against.
+void Simulation::sweep_fast_bodies() {
+  if (!continuous_)
+    return;
+  const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
+  StageTimer timer(current_, Stage::continuous);
+  const ContinuousCollisionCounts counts =
+      continuous_->run(*model_, shape_poses_, *broad_phase_, state_.bodies, masses_, *runner_);
+  current_.swept_bodies += counts.swept_bodies;
+  current_.ccd_candidate_pairs += counts.candidate_pairs;
+  current_.stopped_bodies += counts.stopped_bodies;
+  if (counts.toi_queries == 0)
+    timer.had_nothing_to_do(ran_before);  // nothing near a swept body: no sweep was needed
+}
+
+void Simulation::integrate_velocities(int group, Real h) {
+  StageTimer timer(current_, Stage::integrate_velocities);
+  const Vec3 g = scene_->world.gravity;
+  for_each_awake_body(group, [&](std::size_t i) {
+    if (loaded_[i] == 0) {
+      integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
+      return;
+    }
+    // A body with loads: the force joins gravity; the torque turns it after the gyroscopic
+    // update, through the world inverse inertia at the substep's orientation.
+    BodyState& b = state_.bodies[i];
+    const BodyMass& m = masses_[i];
+    integrate_velocity(b, m, g + force_[i] * m.inverse_mass, h, carries_[i]);
+    if (torque_[i].squaredNorm() > 0) {
+      const Mat3 r = b.orientation.toRotationMatrix();
+      b.angular_velocity += r * (m.inverse_inertia * (r.transpose() * torque_[i])) * h;
+    }
+  });
+}
+
+// Calls update(i) for every awake body i of substep group `group`, in chunks on the runner's
+// threads (each call touches body i alone).
+template <class Update>
+void Simulation::for_each_awake_body(int group, const Update& update) {
+  const std::int32_t first = group_body_start_[std::size_t(group)];
+  runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        for (std::int32_t k = first + begin; k < first + end; ++k) {
+                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
+                          if (state_.asleep[i] == 0)
+                            update(i);
+                        }
+                      });
+}
+
+// Each dynamic body's box grows by how far its surface can move in this step (speed, plus what
+// gravity adds within the step, plus angular speed times its bounding radius) and half the
+// contact margin, so a pair that can touch within the step is always a candidate. With
+// continuous collision the growth stops at the body's sweep threshold: a body that moves farther
+// is swept over its whole motion by sweep_fast_bodies, so growing its box along its path would
+// only pair it with everything it passes (thousands of speculative contacts in
+// scenes/high_speed.yaml) for nothing the sweep does not already catch.
+void Simulation::update_bounds(Real dt) {
+  StageTimer timer(current_, Stage::bounds);
+  const Real half_margin = Real(0.5) * scene_->world.contact_margin;
+  const Real gravity_speed = scene_->world.gravity.norm() * dt;
+  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    const BodyState& b = state_.bodies[i];
+    shape_poses_[i] = pose_of(b);
+    if (scene_->bodies[i].is_static) {
+      speculative_margin_[i] = half_margin;
+      continue;
+    }
+    Real reach =
+        dt * (b.velocity.norm() + gravity_speed + b.angular_velocity.norm() * bounding_radii_[i]);
+    // A kinematic body is not swept (nothing stops it), so its box covers its whole motion.
+    if (continuous_ && !model_->is_kinematic(i))
+      reach = std::min(reach, continuous_->sweep_threshold(i));
+    speculative_margin_[i] = half_margin + reach;
+    broad_phase_->update(
+        static_cast<std::int32_t>(i),
+        world_aabb(scene_->bodies[i].shape, shape_poses_[i]).inflated(speculative_margin_[i]));
+  }
+}
+
+void Simulation::find_candidate_pairs() {
+  StageTimer timer(current_, Stage::broad_phase);
+  broad_phase_->find_pairs(candidate_pairs_);
+  current_.candidate_pairs += static_cast<std::int64_t>(candidate_pairs_.size());
+}
+
+// Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its
+// manifold was computed reuses it (collision/manifold_recycling.hpp); the others collide: box-box
+// pairs, the most common in box scenes, through the batched path all at once
+// (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
+// batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
+void Simulation::collide_candidate_pairs() {
+  StageTimer timer(current_, Stage::narrow_phase);
+  // The pass that sorts the candidates (recycling the kept manifolds as it goes) and the queries
+  // of the rest are timed apart, so that recycled and recomputed pairs have each their cost.
+  const auto sort_start = std::chrono::steady_clock::now();
+  contacts_.clear();
+  penalty_springs_.clear();
+  const auto& bodies = scene_->bodies;
+  const auto& materials = scene_->materials;
+  const WorldSettings& w = scene_->world;
+  const auto margin_of = [&](const ProxyPair& pair) {
+    return speculative_margin_[pair.a] + speculative_margin_[pair.b];
+  };
+  const auto is_box_pair = [&](const ProxyPair& pair) {
+    return bodies[pair.a].shape.type == ShapeType::box &&
+           bodies[pair.b].shape.type == ShapeType::box;
+  };
+  const auto is_sphere_pair = [&](const ProxyPair& pair) {
+    return bodies[pair.a].shape.type == ShapeType::sphere &&
+           bodies[pair.b].shape.type == ShapeType::sphere;
+  };
+  const auto smaller_radius = [&](const ProxyPair& pair) {
+    const BodyDesc& a = bodies[pair.a];
+    const BodyDesc& b = bodies[pair.b];
+    return std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
+                    b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
+  };
+  // What each candidate's manifold comes from: the kept manifold (its index in
+  // state_.manifolds), or a fresh query (-1).
+  const std::size_t n = candidate_pairs_.size();
+  candidate_manifolds_.resize(n);
+  candidate_kept_.assign(n, -1);
+  candidate_axis_.assign(n, kNoBoxAxis);
+  candidate_uses_gjk_.assign(n, 0);
+  candidate_is_hull_pair_.assign(n, 0);
+  if (candidate_hull_axis_.size() < n)
+    candidate_hull_axis_.resize(n);
+  if (candidate_gjk_.size() < n)
+    candidate_gjk_.resize(n);
+  box_queries_.clear();
+  box_candidates_.clear();
+  sphere_x_.clear();
+  sphere_y_.clear();
+  sphere_z_.clear();
+  sphere_radius_.clear();
+  sphere_pairs_.clear();
+  sphere_candidates_.clear();
+  other_candidates_.clear();
+  const std::vector<RecyclableManifold>& kept = state_.manifolds;
+  const std::vector<CachedBoxAxis>& axes = state_.box_axes;
+  std::size_t cursor = 0;
+  std::size_t axis_cursor = 0;
+  std::int64_t axis_tries = 0, axis_hits = 0;
+  const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
+  std::size_t gjk_cursor = 0;
+  std::int64_t gjk_warm = 0;
+  const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
+  std::size_t hull_cursor = 0;
+  std::int64_t hull_tries = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ProxyPair& pair = candidate_pairs_[i];
+    // Two bodies of infinite mass (kinematic against static or kinematic) ignore each other.
+    if (model_->is_fixed(std::size_t(pair.a)) && model_->is_fixed(std::size_t(pair.b))) {
+      candidate_manifolds_[i].count = 0;
+      continue;
+    }
+    // The candidates and every kept list are sorted by pair: one walk finds them all.
+    const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
+    if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] && manifold != nullptr &&
+        recycle(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
+                kRecycleDistance * smaller_radius(pair), kRecycleAngle, candidate_manifolds_[i])) {
+      candidate_kept_[i] = static_cast<std::int32_t>(manifold - kept.data());
+      continue;
+    }
+    if (is_box_pair(pair)) {
+      // The axis that kept the boxes apart last step, if it still does: no contact, and no
+      // query (collision/box_axis_cache.hpp).
+      if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b)) {
+        ++axis_tries;
+        const std::uint8_t axis = cached->axis;
+        if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
+                               bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
+                               margin_of(pair))) {
+          ++axis_hits;
+          candidate_axis_[i] = axis;
+          candidate_manifolds_[i].count = 0;
+          continue;
+        }
+      }
+      box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
+                              bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
+                              margin_of(pair)});
+      box_candidates_.push_back(static_cast<std::int32_t>(i));
+    } else if (is_sphere_pair(pair)) {
+      for (const std::int32_t body : {pair.a, pair.b}) {
+        const Vec3& c = shape_poses_[std::size_t(body)].translation;
+        sphere_x_.push_back(c.x());
+        sphere_y_.push_back(c.y());
+        sphere_z_.push_back(c.z());
+        sphere_radius_.push_back(bodies[std::size_t(body)].shape.radius);
+      }
+      const auto first = static_cast<std::int32_t>(sphere_candidates_.size() * 2);
+      sphere_pairs_.push_back({first, first + 1});
+      sphere_candidates_.push_back(static_cast<std::int32_t>(i));
+    } else {
+      if (bodies[pair.a].shape.type == ShapeType::hull &&
+          bodies[pair.b].shape.type == ShapeType::hull) {
+        // Last step's separating direction of a hull pair, tried in the query loop below.
+        const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b);
+        candidate_is_hull_pair_[i] = 1;
+        candidate_hull_axis_[i] = cached != nullptr ? cached->axis : HullAxis{};
+        hull_tries += cached != nullptr ? 1 : 0;
+      } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
+        // Last step's separating axis of a pair GJK answers, if it has one.
+        const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b);
+        candidate_uses_gjk_[i] = 1;
+        candidate_gjk_[i] = cached != nullptr ? cached->cache : GjkCache{};
+        gjk_warm += cached != nullptr ? 1 : 0;
+      }
+      other_candidates_.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  const auto query_start = std::chrono::steady_clock::now();
+  hull_hits_.assign(other_candidates_.size(), 0);
+  if (box_manifolds_.size() < box_queries_.size())
+    box_manifolds_.resize(box_queries_.size());
+  box_axes_found_.resize(box_queries_.size());
+  // Each query's answer is its own (collide_box_pairs answers a pair as collide() does, in any
+  // batch), so the batch splits over the threads.
+  runner_->for_chunks(
+      static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
+      [&](std::int32_t begin, std::int32_t end) {
+        const auto count = std::size_t(end - begin);
+        collide_box_pairs(std::span(box_queries_).subspan(std::size_t(begin), count),
+                          std::span(box_manifolds_).subspan(std::size_t(begin), count));
+        // The pairs found apart keep the axis that separates them most.
+        for (std::size_t k = std::size_t(begin); k < std::size_t(end); ++k) {
+          const BoxPairQuery& q = box_queries_[k];
+          box_axes_found_[k] =
+              box_manifolds_[k].count == 0
+                  ? best_separating_box_axis(q.half_a, q.pose_a, q.half_b, q.pose_b, q.margin)
+                  : kNoBoxAxis;
+        }
+      });
+  runner_->for_chunks(
+      static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
+      [&](std::int32_t begin, std::int32_t end) {
+        for (std::int32_t k = begin; k < end; ++k) {
+          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
+          const ProxyPair& pair = candidate_pairs_[i];
+          if (candidate_is_hull_pair_[i] != 0) {
+            // Apart along last step's direction: no contact, no query.
+            // Otherwise the query, and a direction for next step if apart.
+            const ConvexHull& hull_a = *bodies[pair.a].shape.hull;
+            const ConvexHull& hull_b = *bodies[pair.b].shape.hull;
+            HullAxis& axis = candidate_hull_axis_[i];
+            if (hull_axis_separates(hull_a, shape_poses_[pair.a], hull_b, shape_poses_[pair.b],
+                                    axis, margin_of(pair))) {
+              candidate_manifolds_[i] = Manifold{};
+              hull_hits_[std::size_t(k)] = 1;
+              continue;
+            }
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+            axis = candidate_manifolds_[i].count == 0
+                       ? separating_hull_axis(hull_a, shape_poses_[pair.a], hull_b,
+                                              shape_poses_[pair.b], margin_of(pair))
+                       : HullAxis{};
+          } else if (candidate_uses_gjk_[i] != 0) {
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
+                    candidate_gjk_[i]);
+          } else {
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+          }
+        }
+      });
+  for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
+    candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
+    candidate_axis_[std::size_t(box_candidates_[k])] = box_axes_found_[k];
+  }
+  // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
+  // keeps its own margin.
+  if (!sphere_pairs_.empty()) {
+    const std::size_t m = sphere_pairs_.size();
+    sphere_out_.resize(7 * m);
+    const SphereContactArrays out{sphere_out_.data(),         sphere_out_.data() + m,
+                                  sphere_out_.data() + 2 * m, sphere_out_.data() + 3 * m,
+                                  sphere_out_.data() + 4 * m, sphere_out_.data() + 5 * m,
+                                  sphere_out_.data() + 6 * m};
+    collide_sphere_pairs_dense(
+        {sphere_x_.data(), sphere_y_.data(), sphere_z_.data(), sphere_radius_.data()},
+        sphere_pairs_, 0, out);
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = std::size_t(sphere_candidates_[k]);
+      Manifold& manifold = candidate_manifolds_[i];
+      manifold.count = 0;
+      if (!(out.depth[k] >= -margin_of(candidate_pairs_[i])))
+        continue;
+      manifold.normal = Vec3(out.normal_x[k], out.normal_y[k], out.normal_z[k]);
+      manifold.add(Vec3(out.x[k], out.y[k], out.z[k]), out.depth[k],
+                   {detail::feature::kSphere, detail::feature::kSphere});
+    }
+  }
+
+  const auto query_end = std::chrono::steady_clock::now();
+  current_.recycle_seconds += std::chrono::duration<double>(query_start - sort_start).count();
+  current_.recompute_seconds += std::chrono::duration<double>(query_end - query_start).count();
+  next_manifolds_.clear();
+  next_box_axes_.clear();
+  next_gjk_caches_.clear();
+  next_hull_axes_.clear();
+  std::int64_t recycled = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ProxyPair& pair = candidate_pairs_[i];
+    if (candidate_axis_[i] != kNoBoxAxis)
+      next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
+    if (candidate_uses_gjk_[i] != 0 && candidate_gjk_[i].valid)
+      next_gjk_caches_.push_back({pair.a, pair.b, candidate_gjk_[i]});
+    if (candidate_is_hull_pair_[i] != 0 && candidate_hull_axis_[i].direction_in_a.squaredNorm() > 0)
+      next_hull_axes_.push_back({pair.a, pair.b, candidate_hull_axis_[i]});
+    const BodyDesc& a = bodies[pair.a];
+    const BodyDesc& b = bodies[pair.b];
+    Manifold& manifold = candidate_manifolds_[i];
+    if (candidate_kept_[i] >= 0) {
+      ++recycled;
+      next_manifolds_.push_back(kept[std::size_t(candidate_kept_[i])]);
+    } else {
+      if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
+        next_manifolds_.push_back(
+            make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
+      }
+    }
+    if (manifold.count == 0)
+      continue;
+    PairContact pc;
+    pc.manifold = manifold;
+    pc.body_a = pair.a;
+    pc.body_b = pair.b;
+    const Material& ma = materials[a.material];
+    const Material& mb = materials[b.material];
+    pc.friction = model_->friction(a.material, b.material);
+    pc.restitution = model_->restitution(a.material, b.material);
+    // A twentieth of the smaller body's size: far below the spacing of distinct contact
+    // points, far above the drift of one point between steps.
+    pc.match_distance = Real(0.05) * smaller_radius(pair);
+    contacts_.push_back(pc);
+    // The softer material sets the spring, the more damped one the damper: a rubber ball on
+    // steel deforms like rubber.
+    penalty_springs_.push_back(
+        PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
+  }
+  state_.manifolds.swap(next_manifolds_);
+  state_.box_axes.swap(next_box_axes_);
+  state_.gjk_caches.swap(next_gjk_caches_);
+  state_.hull_axes.swap(next_hull_axes_);
+  std::int64_t hull_hits = 0;
+  for (std::size_t k = 0; k < other_candidates_.size(); ++k)
+    hull_hits += hull_hits_[k];
+  current_.axis_cache_tries += hull_tries;
+  current_.axis_cache_hits += hull_hits;
+  current_.gjk_warm_starts += gjk_warm;
+  current_.axis_cache_tries += axis_tries;
+  current_.axis_cache_hits += axis_hits;
+  current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
+  current_.recycled_pairs += recycled;
+  current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled;
+}
+
+void Simulation::prepare_contacts() {
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    // The penalty solver runs every moving body in one group, at penalty_substeps().
+    {
+      StageTimer timer(current_, SolvePhase::islands_and_sleep);
+      group_settings_.resize(1);
+      group_settings_[0].substeps = penalty_substeps_;
+      group_settings_[0].substep = w.dt / penalty_substeps_;
+      group_bodies_.clear();
+      for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+        if (!model_->is_fixed(i))
+          group_bodies_.push_back(static_cast<std::int32_t>(i));
+      }
+      group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
+      current_.max_substeps = penalty_substeps_;
+    }
+    StageTimer timer(current_, SolvePhase::prepare);
+    PenaltySolverSettings settings;
+    settings.substep = group_settings_[0].substep;
+    settings.min_iterations = w.iterations;
+    settings.max_iterations = std::max(w.iterations, kMaxPenaltyIterations);
+    penalty_solver_.prepare(contacts_, penalty_springs_, state_.contacts, state_.bodies, masses_,
+                            settings);
+    current_.contact_points += penalty_solver_.point_count();
+    return;
+  }
+  {
+    StageTimer timer(current_, SolvePhase::prepare);
+    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
+  }
+  {
+    StageTimer timer(current_, SolvePhase::islands_and_sleep);
+    choose_substeps();
+  }
+  StageTimer timer(current_, SolvePhase::prepare);
+  solver_.pack(group_of_contact_, group_settings_, model_->kinematic_flags());
+  current_.contact_points += solver_.point_count();
+}
+
+// Substeps per island (docs/architecture.md). A soft contact of angular frequency omega settles
+// load / (m_eff omega^2) deep under its load; omega grows with the substep rate (an eighth of it
+// between moving bodies, a quarter against a static one), so an island whose warm-started load
+// would sink a contact deeper than the sag tolerance doubles its substeps until it does not, up
+// to max_substeps. Islands with the same count form one group, solved together.
+void Simulation::choose_substeps() {
+  const WorldSettings& w = scene_->world;
+  const std::size_t n = state_.bodies.size();
+  const int base = std::max(1, w.substeps);
+  const int cap = std::max(base, w.max_substeps);
+  int top_level = 0;
+  while ((base << (top_level + 1)) <= cap)
+    ++top_level;
+  islands_.reset(n);
+  for (const PairContact& pc : contacts_) {
+    if (!model_->is_fixed(std::size_t(pc.body_a)) && !model_->is_fixed(std::size_t(pc.body_b)))
+      islands_.join(pc.body_a, pc.body_b);
+  }
+  // Per island root: the level its loads need now, the level it had, and its mass (a contact in
+  // an island at rest carries at most the island's weight; more is an impact, which needs no
+  // stiffer spring to hold it up).
+  level_needed_.assign(n, 0);
+  level_before_.assign(n, 0);
+  hold_before_.assign(n, 0);
+  island_mass_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (model_->is_fixed(i))
+      continue;
+    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    level_before_[root] = std::max(level_before_[root], state_.substep_level[i]);
+    hold_before_[root] = std::max(hold_before_[root], state_.substep_hold[i]);
+    if (masses_[i].inverse_mass > 0)
+      island_mass_[root] += 1 / masses_[i].inverse_mass;
+  }
+  const std::span<const ContactLoad> load = solver_.contact_loads();
+  if (!w.contact_hertz) {
+    constexpr Real kPi = std::numbers::pi_v<Real>;
+    const Real gravity = w.gravity.norm();
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+      const PairContact& pc = contacts_[c];
+      const bool a_static = model_->is_fixed(std::size_t(pc.body_a));
+      const bool b_static = model_->is_fixed(std::size_t(pc.body_b));
+      const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
+      const std::size_t root = std::size_t(islands_.root(moving));
+      const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
+                                            : bounding_radii_[std::size_t(pc.body_a)],
+                                   b_static ? bounding_radii_[std::size_t(pc.body_a)]
+                                            : bounding_radii_[std::size_t(pc.body_b)]);
+      const Real tolerance = w.sag_tolerance * radius;
+      if (!(tolerance > 0))
+        continue;
+      // What the contact carried last step counts only while the pair rests (its points close or
+      // part slower than the restitution threshold), and then at most the island's weight: more
+      // is an impact, which a stiffer spring need not hold up.
+      const BodyState& sa = state_.bodies[std::size_t(pc.body_a)];
+      const BodyState& sb = state_.bodies[std::size_t(pc.body_b)];
+      const Vec3& p = pc.manifold.points[0].position;
+      const Real approach =
+          pc.manifold.normal.dot(sa.velocity + sa.angular_velocity.cross(p - sa.position) -
+                                 sb.velocity - sb.angular_velocity.cross(p - sb.position));
+      const bool resting = std::abs(approach) <= w.restitution_threshold;
+      const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
+      const Real needed_load =
+          std::max(load[c].weight, resting ? std::min(load[c].warm, at_rest) : Real(0));
+      if (!(needed_load > 0))
+        continue;
+      // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
+      const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
+      const Real needed = per_substep * std::sqrt(needed_load / tolerance);
+      std::uint8_t& level = level_needed_[root];
+      while (level < top_level && Real(base << level) < needed)
+        ++level;
+    }
+  }
+  // Up at once; down one level at a time, and only after kSubstepHold steps of needing less, so
+  // that a load near a boundary does not switch the spring's stiffness back and forth (each
+  // switch up pushes out the softer spring's sag, and that energy comes back as motion).
+  constexpr std::uint8_t kSubstepHold = 30;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (islands_.root(std::int32_t(i)) != std::int32_t(i))
+      continue;
+    std::uint8_t& level = level_needed_[i];
+    std::uint8_t& hold = hold_before_[i];
+    if (level >= level_before_[i]) {
+      hold = level > 0 ? kSubstepHold : 0;
+    } else if (hold > 0) {
+      level = level_before_[i];
+      --hold;
+    } else {
+      level = std::uint8_t(level_before_[i] - 1);
+      hold = level > 0 ? kSubstepHold : 0;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    state_.substep_level[i] = model_->is_fixed(i) ? 0 : level_needed_[root];
+    state_.substep_hold[i] = model_->is_fixed(i) ? 0 : hold_before_[root];
+  }
+  substeps_of_root_.assign(n, base);
+  for (std::size_t i = 0; i < n; ++i)
+    substeps_of_root_[i] = base << level_needed_[i];
+
+  // Groups: one per distinct count, ascending from the base (group 0, always there).
+  group_settings_.clear();
+  const auto group_of = [&](int substeps) {
+    for (std::size_t g = 0; g < group_settings_.size(); ++g)
+      if (group_settings_[g].substeps == substeps)
+        return static_cast<std::int32_t>(g);
+    ContactSolverSettings settings;
+    settings.substeps = substeps;
+    settings.substep = w.dt / substeps;
+    settings.penetration_slop = w.penetration_slop;
+    const Real rate = Real(1) / settings.substep;
+    if (w.contact_hertz) {
+      settings.contact_hertz = std::min(*w.contact_hertz, Real(0.25) * rate);
+      settings.static_contact_hertz = std::min(2 * *w.contact_hertz, Real(0.25) * rate);
+    } else {
+      settings.contact_hertz = Real(0.125) * rate;
+      settings.static_contact_hertz = Real(0.25) * rate;
+    }
+    settings.contact_damping_ratio = w.contact_damping_ratio;
+    settings.max_push_velocity = w.max_push_velocity;
+    settings.restitution_threshold = w.restitution_threshold;
+    group_settings_.push_back(settings);
+    return static_cast<std::int32_t>(group_settings_.size() - 1);
+  };
+  group_of(base);
+  int most = base;
+  // Visit the counts in ascending order so that group numbers do not depend on island order.
+  for (int substeps = 2 * base; substeps <= cap; substeps *= 2) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (substeps_of_root_[i] == substeps && islands_.root(std::int32_t(i)) == std::int32_t(i)) {
+        group_of(substeps);
+        most = substeps;
+        break;
+      }
+    }
+  }
+  const auto body_group = [&](std::int32_t body) {
+    return group_of(substeps_of_root_[std::size_t(islands_.root(body))]);
+  };
+  group_of_contact_.resize(contacts_.size());
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    const PairContact& pc = contacts_[c];
+    group_of_contact_[c] =
+        body_group(model_->is_fixed(std::size_t(pc.body_a)) ? pc.body_b : pc.body_a);
+  }
+  const std::size_t groups = group_settings_.size();
+  group_body_start_.assign(groups + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!model_->is_fixed(i))
+      ++group_body_start_[std::size_t(body_group(std::int32_t(i))) + 1];
+  }
+  for (std::size_t g = 0; g < groups; ++g)
+    group_body_start_[g + 1] += group_body_start_[g];
+  group_bodies_.resize(std::size_t(group_body_start_[groups]));
+  std::vector<std::int32_t>& cursor = group_fill_;
+  cursor.assign(group_body_start_.begin(), group_body_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!model_->is_fixed(i)) {
+      const std::size_t g = std::size_t(body_group(std::int32_t(i)));
+      group_bodies_[std::size_t(cursor[g]++)] = std::int32_t(i);
+    }
+  }
+  current_.max_substeps = std::max(current_.max_substeps, most);
+}
+
+// Before the bodies move: the warm start and the pairwise impacts, then the soft passes (the
+// penalty solver: its passes until the springs converge).
+void Simulation::solve_contacts(int group) {
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty) {
+    StageTimer timer(current_, SolvePhase::soft_passes);
+    penalty_solver_.begin_substep(state_.bodies);
+    const PenaltySolverSettings& settings = penalty_solver_.settings();
+    for (int it = 0; it < settings.max_iterations; ++it) {
+      const Real change = penalty_solver_.solve(state_.bodies);
+      current_.solver_iterations += 1;
+      current_.point_passes += penalty_solver_.point_count();
+      if (it + 1 >= settings.min_iterations && change <= settings.tolerance)
+        break;
+    }
+    return;
+  }
+  {
+    StageTimer timer(current_, SolvePhase::warm_start);
+    solver_.load_velocities(group, state_.bodies);
+    // Impacts first, on the velocities the bodies arrive with: after the warm start they would
+    // reflect the approach the cached impulses add, which the passes may take back but the
+    // bounce keeps (a sphere squeezed between a box and a capsule left at 22 m/s from 16).
+    solver_.resolve_impacts(group);
+    solver_.warm_start(group);
+  }
+  StageTimer timer(current_, SolvePhase::soft_passes);
+  for (int it = 0; it < w.iterations; ++it)
+    solver_.solve(group, /*use_bias=*/true);
+  solver_.store_velocities(group, state_.bodies);
+  current_.solver_iterations += w.iterations;
+  current_.point_passes += std::int64_t(w.iterations) * solver_.group_point_count(group);
+}
+
+// After the bodies moved: the separations, the relax passes that take out the push-out speed,
+// and restitution. The penalty solver has none of these (the spring is the physics, not a
+// correction to remove, and the damper sets the bounce).
+void Simulation::relax_contacts(int group) {
+  const WorldSettings& w = scene_->world;
+  if (w.solver == SolverType::penalty)
+    return;
+  {
+    StageTimer timer(current_, SolvePhase::relax_passes);
+    solver_.update_separations(group, state_.bodies);
+    solver_.load_velocities(group, state_.bodies);
+    for (int it = 0; it < w.relax_iterations; ++it)
+      solver_.solve(group, /*use_bias=*/false);
+    current_.solver_iterations += w.relax_iterations;
+    current_.point_passes += std::int64_t(w.relax_iterations) * solver_.group_point_count(group);
+  }
+  StageTimer timer(current_, SolvePhase::restitution);
+  solver_.apply_restitution(group);
+  solver_.store_velocities(group, state_.bodies);
+}
+
+void Simulation::finish_contacts() {
+  StageTimer timer(current_, SolvePhase::store_impulses);
+  if (scene_->world.solver == SolverType::penalty)
+    penalty_solver_.store(state_.contacts);
+  else
+    solver_.store(state_.contacts);
+}
+
+void Simulation::integrate_positions(int group, Real h) {
+  StageTimer timer(current_, Stage::integrate_positions);
+  for_each_awake_body(group,
+                      [&](std::size_t i) { integrate_position(state_.bodies[i], carries_[i], h); });
+}
+
+WorldMemory Simulation::memory() const {
+  WorldMemory m;
+  const auto bytes = [](const auto& v) {
+    return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
+  };
+  m.body_bytes = bytes(state_.bodies) + bytes(state_.slow_time) + bytes(state_.asleep) +
+                 bytes(state_.substep_level) + bytes(state_.substep_hold) +
+                 bytes(model_->masses()) + bytes(model_->bounding_radii()) + bytes(shape_poses_) +
+                 bytes(carries_) + bytes(speculative_margin_) + bytes(group_bodies_) +
+                 bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
+                 bytes(hold_before_) + bytes(island_mass_) + bytes(island_awake_) +
+                 bytes(island_slow_time_);
+  m.contact_bytes = bytes(state_.contacts) + bytes(candidate_pairs_) + bytes(box_queries_) +
+                    bytes(box_manifolds_) + bytes(contacts_) + bytes(penalty_springs_) +
+                    bytes(group_of_contact_) + solver_.bytes_reserved();
+  return m;
+}
+
+Simulation::RayResult Simulation::ray_cast(const Vec3& origin, const Vec3& direction,
+                                           Real max_distance) const {
+  std::vector<std::int32_t> candidates;
+  broad_phase_->ray_cast(origin, direction, max_distance, candidates);
+  RayResult best;
+  best.distance = max_distance;
+  const Vec3 delta = direction * max_distance;
+  for (const std::int32_t id : candidates) {
+    const std::size_t i = std::size_t(id);
+    const ShapeRayHit hit =
+        tumble::ray_cast(scene_->bodies[i].shape, pose_of(state_.bodies[i]), origin, delta);
+    if (!hit.hit)
+      continue;
+    const Real distance = hit.fraction * max_distance;
+    // Ties go to the lower slot (candidates ascend), so the answer does not depend on order.
+    if (best.body < 0 || distance < best.distance) {
+      best.body = id;
+      best.distance = distance;
+      best.normal = hit.normal;
+    }
+  }
+  return best;
+}
+
+Real Simulation::kinetic_energy() const {
+  Real e = 0;
+  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    e += tumble::kinetic_energy(state_.bodies[i], masses_[i]);
+  }
+  return e;
+}
+
+Real Simulation::potential_energy() const {
+  Real e = 0;
+  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    if (masses_[i].inverse_mass == 0)
+      continue;
+    e -= scene_->world.gravity.dot(state_.bodies[i].position) / masses_[i].inverse_mass;
+  }
+  return e;
+}
+
+}  // namespace tumble

@@ -1,0 +1,83 @@
+// Shapes, in their local frame with the centre of mass at the origin. Sphere, box, capsule (core
+// segment along local z), plane (the half-space z <= 0), cylinder (axis along local z), convex
+// hull, static triangle mesh, and compound (several convex parts in one body).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "tumble/math.hpp"
+
+namespace tumble {
+
+// The shared geometry of hulls, meshes and compounds; built by the functions at the end of this
+// file, opaque to users (collision/convex_hull.hpp, triangle_mesh.hpp, compound_shape.hpp).
+class ConvexHull;
+class TriangleMesh;
+class CompoundShape;
+
+// The values are fixed: dispatch tables and saved data index by them.
+enum class ShapeType : std::uint8_t {
+  sphere = 0,
+  box = 1,
+  capsule = 2,
+  plane = 3,
+  cylinder = 4,
+  hull = 5,
+  mesh = 6,
+  compound = 7,
+};
+inline constexpr int kShapeTypeCount = 8;
+
+std::string_view shape_type_name(ShapeType type);
+
+// A flat value type: one struct for every primitive, so shapes sit in contiguous arrays and
+// dispatch is an index into a table. Fields a type does not use stay zero.
+struct Shape {
+  ShapeType type = ShapeType::sphere;
+  Real radius = 0;                   // sphere, capsule, cylinder [m]
+  Real half_length = 0;              // capsule: half the core segment; cylinder: half height [m]
+  Vec3 half_extents = Vec3::Zero();  // box [m]
+  // hull: the shared, immutable hull (vertices re-centred on its centre of mass).
+  std::shared_ptr<const ConvexHull> hull;
+  std::shared_ptr<const TriangleMesh> mesh;       // mesh (static only)
+  std::shared_ptr<const CompoundShape> compound;  // compound
+
+  static Shape sphere(Real radius);
+  static Shape box(const Vec3& half_extents);
+  static Shape capsule(Real radius, Real half_length);
+  static Shape plane();
+  static Shape cylinder(Real radius, Real half_length);
+  static Shape convex_hull(std::shared_ptr<const ConvexHull> hull);
+  static Shape triangle_mesh(std::shared_ptr<const TriangleMesh> mesh);
+  static Shape compound_of(std::shared_ptr<const CompoundShape> compound);
+
+  // Bounded shapes can be dynamic; a plane is infinite and only ever static.
+  bool is_bounded() const { return type != ShapeType::plane; }
+};
+
+// Shapes built from data. Each throws tumble::Error naming what is wrong (too few points, a flat
+// hull, a triangle index out of range, a part that is not convex).
+//
+// The convex hull of `points` (at least 4, not all in one plane), re-centred on its centre of
+// mass; `centre_of_mass` (if given) receives that centre in the points' frame, where a body must
+// be placed for the hull to sit where the points were.
+Shape hull_from_points(std::span<const Vec3> points, Vec3* centre_of_mass = nullptr);
+// A static triangle mesh; each triangle lists three vertex indices, counter-clockwise seen from
+// the side bodies rest on.
+Shape mesh_from_triangles(std::vector<Vec3> vertices,
+                          std::vector<std::array<std::int32_t, 3>> triangles);
+// One convex part of a compound: its shape and its pose in the compound's frame.
+struct CompoundPart {
+  Shape shape;
+  Transform pose;
+};
+// A compound of spheres, boxes, capsules, cylinders and hulls (at most 256), of one density,
+// re-centred on its centre of mass like hull_from_points.
+Shape compound_from_parts(std::vector<CompoundPart> parts, Vec3* centre_of_mass = nullptr);
+
+}  // namespace tumble
