@@ -59,9 +59,9 @@ int main(int argc, char** argv) {
       run_cmd->add_option("--duration", run.duration, "Simulated time in s (overrides the scene)")
           ->check(kFinitePositive);
   steps_opt->excludes(duration_opt);
+  // The range is the scene's (1e-9 to 1 s), checked with the scene (check_scene).
   run_cmd->add_option("--dt", run.dt, "Time step in s (overrides the scene)")
-      ->check(kFinitePositive)
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(kFinitePositive);
   run_cmd
       ->add_option("--record-every", run.record_every,
                    "Write every k-th step to the trajectory (the first and last always)")

@@ -1,5 +1,7 @@
 #include "apps/run_command.hpp"
 
+#include "tumble/model.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,6 +44,16 @@ int run_command(const RunOptions& options) {
     scene->world.threads = *options.threads;
   if (options.dt)
     scene->world.dt = *options.dt;
+  // The overrides pass the check the file passed (the same ranges, tumble/model.hpp).
+  try {
+    check_scene(*scene);
+  } catch (const SceneError& e) {
+    if (e.field == "world.dt" && options.dt)
+      throw SceneError(e.file, 0, 0, "--dt", e.reason);
+    if (e.field == "world.threads" && options.threads)
+      throw SceneError(e.file, 0, 0, "--threads", e.reason);
+    throw;
+  }
 
   // `ccd: off` wins over `fast: true`: say so, since the user asked for both.
   const bool fast_body_unswept =

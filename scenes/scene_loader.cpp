@@ -36,9 +36,9 @@
 #include "engine/scene_limits.hpp"
 #include "scenes/obj_reader.hpp"
 #include "scenes/query_file.hpp"
+#include "tumble/model.hpp"
 
 namespace tumble {
-
 
 namespace {
 
@@ -58,9 +58,9 @@ constexpr std::array<std::string_view, 23> kWorldKeys{
 // clang-format on
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
-constexpr std::array<std::string_view, 12> kBodyKeys{
+constexpr std::array<std::string_view, 13> kBodyKeys{
     "name", "shape",   "position", "orientation", "velocity", "angular_velocity",  //
-    "mass", "density", "inertia",  "material",    "static",   "fast"};
+    "mass", "density", "inertia",  "material",    "static",   "kinematic",        "fast"};
 constexpr std::array<std::string_view, 3> kCameraKeys{"position", "target", "fov"};
 constexpr std::array<std::string_view, 2> kSphereKeys{"type", "radius"};
 constexpr std::array<std::string_view, 2> kBoxKeys{"type", "half_extents"};
@@ -1112,6 +1112,17 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
   if (is_static != nullptr) {
     b.is_static = read_bool(*is_static, at("static"));
   }
+  const Entry* kinematic = f.find("kinematic");
+  if (kinematic != nullptr) {
+    b.kinematic = read_bool(*kinematic, at("kinematic"));
+    if (b.kinematic && b.is_static)
+      fail(kinematic->mark(), at("kinematic"),
+           "a body is static or kinematic, not both; remove one of them");
+    if (b.kinematic && (!b.shape.is_bounded() || b.shape.type == ShapeType::mesh))
+      fail(kinematic->mark(), at("kinematic"),
+           std::string("a ") + (b.shape.is_bounded() ? "triangle mesh" : "plane") +
+               " can only be static");
+  }
   if (const Entry* x = f.find("fast")) {
     b.fast = read_bool(*x, at("fast"));
   }
@@ -1169,11 +1180,13 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
   const Entry* mass = f.find("mass");
   const Entry* density = f.find("density");
   const Entry* inertia = f.find("inertia");
-  if (b.is_static) {
+  if (b.is_static || b.kinematic) {
     for (const Entry* x : {mass, density, inertia}) {
       if (x != nullptr) {
         fail(x->key_mark, at(x->key),
-             "static bodies have no mass; remove '" + x->key + "' or set 'static: false'");
+             std::string(b.is_static ? "static" : "kinematic") +
+                 " bodies have no mass (it is infinite); remove '" + x->key + "' or set '" +
+                 (b.is_static ? "static" : "kinematic") + ": false'");
       }
     }
   } else {
@@ -1343,6 +1356,9 @@ Scene Loader::load(std::string_view text) {
   if (const Entry* x = top.find("camera")) {
     scene.camera = load_camera(*x);
   }
+  // The check every scene passes, from a file or from code (tumble/model.hpp): the fields above
+  // were read against the same table, so this finds only what no single field shows.
+  check_scene(scene);
   return scene;
 }
 
