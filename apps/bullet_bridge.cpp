@@ -5,10 +5,10 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "collision/compound_shape.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 #ifdef TUMBLE_HAVE_BULLET
 #include <btBulletDynamicsCommon.h>

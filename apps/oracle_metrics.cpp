@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble::app {
 

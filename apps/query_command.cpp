@@ -1,10 +1,10 @@
 // Answers each query (docs/scene-format.md, "Query files"):
 //   contact, convex pair (sphere, box, capsule, cylinder, hull on both sides): GJK
-//     (collision/gjk.hpp) in a pair-local frame (poses relative to a's position) gives the
-//     signed distance, the normal and the witness points; when the cores intersect, EPA
-//     (collision/epa.hpp) gives the depth. "status" is the GJK status name ("separated",
-//     "max_iterations", "degenerate") or, when GJK found the cores intersecting, the EPA status
-//     name ("converged", ...); "status_source" is "gjk" or "epa".
+//     (collision/narrow_phase/gjk_epa/gjk.hpp) in a pair-local frame (poses relative to a's
+//     position) gives the signed distance, the normal and the witness points; when the cores
+//     intersect, EPA (collision/narrow_phase/gjk_epa/epa.hpp) gives the depth. "status" is the GJK
+//     status name ("separated", "max_iterations", "degenerate") or, when GJK found the cores
+//     intersecting, the EPA status name ("converged", ...); "status_source" is "gjk" or "epa".
 //   contact, a pair with a plane, mesh or compound: the narrow phase's manifold, whose deepest
 //     point gives the distance and witnesses ("status_source": "manifold"; statuses
 //     "penetrating", "touching", "separated", "beyond_margin", "unsupported" for two static
@@ -23,9 +23,9 @@
 #include "apps/number_format.hpp"
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 
 namespace tumble::app {
 namespace {

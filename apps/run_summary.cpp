@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "collision/broad_phase_factory.hpp"
+#include "collision/broad_phase/broad_phase_factory.hpp"
 
 namespace tumble::app {
 namespace {

@@ -3,7 +3,7 @@
 #include <string>
 #include <utility>
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 #include "tumble/error.hpp"
 #include "tumble/scene.hpp"
 

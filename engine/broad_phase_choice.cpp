@@ -1,6 +1,6 @@
 #include "engine/broad_phase_choice.hpp"
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 #include <algorithm>
 #include <cmath>

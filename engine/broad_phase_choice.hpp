@@ -2,7 +2,7 @@
 // statistics. The rule and the measurements behind it are in docs/broad-phase.md.
 #pragma once
 
-#include "collision/broad_phase.hpp"
+#include "collision/broad_phase/broad_phase.hpp"
 #include "tumble/scene.hpp"
 
 namespace tumble {

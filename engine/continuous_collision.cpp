@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "collision/compound_shape.hpp"
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
 
 #include "collision/ccd/conservative_advancement.hpp"
 

@@ -35,7 +35,7 @@
 #include <vector>
 #include "dynamics/parallel_runner.hpp"
 
-#include "collision/broad_phase.hpp"
+#include "collision/broad_phase/broad_phase.hpp"
 #include "collision/ccd/rigid_motion.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/model.hpp"

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <utility>
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {

@@ -8,13 +8,13 @@
 #include <type_traits>
 #include <utility>
 
-#include "collision/box_axis_cache.hpp"
-#include "collision/broad_phase_factory.hpp"
+#include "collision/broad_phase/broad_phase_factory.hpp"
 #include "collision/ccd/ray_cast.hpp"
-#include "collision/manifold_recycling.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/pairs.hpp"
-#include "collision/sphere_batch.hpp"
+#include "collision/narrow_phase/box_axis_cache.hpp"
+#include "collision/narrow_phase/manifold_recycling.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
+#include "collision/narrow_phase/sphere_batch.hpp"
 #include "engine/broad_phase_choice.hpp"
 
 namespace tumble {
@@ -548,8 +548,8 @@ void Simulation::find_candidate_pairs() {
 }
 
 // Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its
-// manifold was computed reuses it (collision/manifold_recycling.hpp); the others collide: box-box
-// pairs, the most common in box scenes, through the batched path all at once
+// manifold was computed reuses it (collision/narrow_phase/manifold_recycling.hpp); the others
+// collide: box-box pairs, the most common in box scenes, through the batched path all at once
 // (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
 // batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
 void Simulation::collide_candidate_pairs() {
@@ -628,7 +628,7 @@ void Simulation::collide_candidate_pairs() {
     }
     if (is_box_pair(pair)) {
       // The axis that kept the boxes apart last step, if it still does: no contact, and no
-      // query (collision/box_axis_cache.hpp).
+      // query (collision/narrow_phase/box_axis_cache.hpp).
       if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b)) {
         ++axis_tries;
         const std::uint8_t axis = cached->axis;

@@ -8,10 +8,10 @@
 #include <span>
 #include <vector>
 
-#include "collision/box_batch.hpp"
-#include "collision/broad_phase.hpp"
-#include "collision/manifold_recycling.hpp"
-#include "collision/sphere_batch.hpp"
+#include "collision/broad_phase/broad_phase.hpp"
+#include "collision/narrow_phase/box_batch.hpp"
+#include "collision/narrow_phase/manifold_recycling.hpp"
+#include "collision/narrow_phase/sphere_batch.hpp"
 #include "dynamics/contact_solver.hpp"
 #include "dynamics/integrator.hpp"
 #include "dynamics/parallel_runner.hpp"
@@ -111,10 +111,11 @@ class Simulation {
   // The penalty solver iterates each substep to convergence, at most this many passes (or the
   // scene's `iterations` when larger).
   static constexpr int kMaxPenaltyIterations = 64;
-  // Contact recycling (collision/manifold_recycling.hpp): a pair reuses its manifold while B's
-  // pose relative to A stays within this fraction of the smaller body's bounding radius and this
-  // angle [rad] of the pose it was computed at. A thousandth of the size keeps the recycled
-  // points within that of where a fresh query puts them (docs/narrow-phase.md, "Recycling").
+  // Contact recycling (collision/narrow_phase/manifold_recycling.hpp): a pair reuses its manifold
+  // while B's pose relative to A stays within this fraction of the smaller body's bounding radius
+  // and this angle [rad] of the pose it was computed at. A thousandth of the size keeps the
+  // recycled points within that of where a fresh query puts them (docs/narrow-phase.md,
+  // "Recycling").
   static constexpr Real kRecycleDistance = Real(1e-3);
   static constexpr Real kRecycleAngle = Real(2e-3);
 

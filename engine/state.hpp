@@ -5,17 +5,18 @@
 #include <cstdint>
 #include <vector>
 
-#include "collision/box_axis_cache.hpp"
-#include "collision/gjk.hpp"
-#include "collision/hull_axis_cache.hpp"
-#include "collision/manifold_recycling.hpp"
+#include "collision/narrow_phase/box_axis_cache.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/hull_axis_cache.hpp"
+#include "collision/narrow_phase/manifold_recycling.hpp"
 #include "dynamics/contact_cache.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "tumble/scene.hpp"
 
 namespace tumble {
 
-// GJK's warm start of one pair (collision/narrow_phase.hpp, collide() with a GjkCache).
+// GJK's warm start of one pair (collision/narrow_phase/narrow_phase.hpp, collide() with a
+// GjkCache).
 struct PairGjkCache {
   std::int32_t body_a = 0;  // body_a < body_b
   std::int32_t body_b = 0;
@@ -28,16 +29,16 @@ struct State {
   std::vector<BodyState> bodies;         // one per Scene::bodies entry, same order
   std::vector<CachedManifold> contacts;  // sorted by (body_a, body_b)
   // The touching pairs' manifolds in their bodies' frames, for contact recycling (sorted by
-  // pair; collision/manifold_recycling.hpp).
+  // pair; collision/narrow_phase/manifold_recycling.hpp).
   std::vector<RecyclableManifold> manifolds;
   // The box pairs that were apart last step with the axis that separated them, sorted by pair
-  // (collision/box_axis_cache.hpp).
+  // (collision/narrow_phase/box_axis_cache.hpp).
   std::vector<CachedBoxAxis> box_axes;
   // The pairs collide() answers by GJK that were apart last step, with GJK's last separating
   // axis and support vertices, sorted by pair: this step's query starts from them.
   std::vector<PairGjkCache> gjk_caches;
   // The hull pairs that were apart last step with a direction that separated them, sorted by
-  // pair (collision/hull_axis_cache.hpp).
+  // pair (collision/narrow_phase/hull_axis_cache.hpp).
   std::vector<CachedHullAxis> hull_axes;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
   // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.

@@ -45,7 +45,8 @@ struct StepStatistics {
   std::int64_t recycled_pairs = 0;    // candidate pairs that reused their kept manifold
   std::int64_t recomputed_pairs = 0;  // candidate pairs collided afresh
   // Box and hull pairs whose cached separating axis was tried, and of those, the ones it still
-  // kept apart (no query run; collision/box_axis_cache.hpp, collision/hull_axis_cache.hpp).
+  // kept apart (no query run; collision/narrow_phase/box_axis_cache.hpp,
+  // collision/narrow_phase/hull_axis_cache.hpp).
   std::int64_t axis_cache_tries = 0;
   std::int64_t axis_cache_hits = 0;
   // Pairs answered by GJK that started from last step's separating axis.

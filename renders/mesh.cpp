@@ -8,8 +8,8 @@
 #include <string>
 #include <utility>
 
-#include "collision/compound_shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble::render {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "collision/math.hpp"
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble::render {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "collision/math.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
 

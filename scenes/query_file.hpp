@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble {
 

@@ -6,11 +6,13 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential g++ cmake ninja-build pkg-config clang-format
+  # the layout check (tests/layout/check_dependencies.py)
+  python3
   # core and scene loading
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   # threads (dynamics/parallel_runner.hpp)
   libtbb-dev
-  # convex hulls (collision/convex_hull.cpp) and OBJ meshes (scenes/)
+  # convex hulls (collision/shapes/convex_hull.cpp) and OBJ meshes (scenes/)
   libqhull-dev libtinyobjloader-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include "collision/compound_shape.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/gjk.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -211,7 +211,8 @@ ShapeRayHit local_ray(const Shape& shape, const Vec3& o, const Vec3& d) {
     }
     case ShapeType::compound: {
       for (const CompoundPart& part : shape.compound->parts()) {
-        ShapeRayHit h = local_ray(part.shape, part.pose.apply_inverse(o), part.pose.rotate_inverse(d));
+        ShapeRayHit h =
+            local_ray(part.shape, part.pose.apply_inverse(o), part.pose.rotate_inverse(d));
         if (h.hit && (!out.hit || h.fraction < out.fraction)) {
           h.normal = part.pose.rotate(h.normal);
           out = h;
@@ -313,7 +314,8 @@ Real signed_distance(const Shape& shape, const Transform& pose, const Vec3& poin
   return local_signed_distance(shape, pose.apply_inverse(point));
 }
 
-ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta) {
+ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin,
+                     const Vec3& delta) {
   ShapeRayHit out;
   if (!origin.allFinite() || !delta.allFinite())
     return out;

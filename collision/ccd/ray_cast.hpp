@@ -4,7 +4,7 @@
 // triangles its BVH returns, front faces only; a compound by its nearest part).
 #pragma once
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble {
 
@@ -17,7 +17,8 @@ struct ShapeRayHit {
 };
 
 // The segment from `origin` to `origin + delta` (world) against `shape` at `pose`.
-ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin, const Vec3& delta);
+ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin,
+                     const Vec3& delta);
 
 // Signed distance of a world point to the shape's surface (negative inside) [m]; exact for the
 // convex shapes, unsigned for a mesh (a surface), the nearest part's for a compound. The

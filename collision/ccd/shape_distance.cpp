@@ -2,12 +2,12 @@
 
 #include <cmath>
 
-#include "collision/compound_shape.hpp"
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
 namespace {

@@ -4,7 +4,7 @@
 // separating-axis bound; GJK replaces the latter when it lands.
 #pragma once
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble {
 

@@ -33,7 +33,7 @@
 #include <limits>
 #include <span>
 
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 
 namespace tumble {
 namespace {

@@ -47,7 +47,8 @@ struct WorldSettings {
   BroadPhaseType broadphase = BroadPhaseType::automatic;
   CcdMode ccd = CcdMode::automatic;
   // Contact recycling: a pair whose relative pose barely moved since its manifold was computed
-  // reuses it (collision/manifold_recycling.hpp). Off collides every candidate pair every step.
+  // reuses it (collision/narrow_phase/manifold_recycling.hpp). Off collides every candidate pair
+  // every step.
   bool contact_recycling = true;
   // Contacts are created this far before the surfaces touch, plus the distance the bodies can
   // close in one step (speculative contacts), so that resting contacts never flicker. [m]

@@ -15,7 +15,7 @@
 namespace tumble {
 
 // The shared geometry of hulls, meshes and compounds; built by the functions at the end of this
-// file, opaque to users (collision/convex_hull.hpp, triangle_mesh.hpp, compound_shape.hpp).
+// file, opaque to users (collision/shapes/convex_hull.hpp, triangle_mesh.hpp, compound_shape.hpp).
 class ConvexHull;
 class TriangleMesh;
 class CompoundShape;

@@ -9,4 +9,8 @@ namespace tumble {
 
 inline constexpr const char* kVersion = "0.1.0";
 
+// The version the installed library was built as (equal to kVersion unless the headers and the
+// library come from different installs).
+const char* library_version();
+
 }  // namespace tumble

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "collision/broad_phase_factory.hpp"
+#include "collision/broad_phase/broad_phase_factory.hpp"
 
 namespace tumble::bench {
 namespace {

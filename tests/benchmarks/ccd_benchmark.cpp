@@ -35,7 +35,7 @@
 #include "collision/ccd/mesh_ccd.hpp"
 #include "collision/ccd/swept_box_sat.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/ccd/ccd_test_support.hpp"

@@ -6,8 +6,8 @@
 #include <memory>
 #include <random>
 
-#include "collision/narrow_phase.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
 namespace {

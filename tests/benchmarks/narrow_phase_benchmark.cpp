@@ -30,13 +30,13 @@
 #include <random>
 #include <vector>
 
-#include "collision/box_batch.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/pairs.hpp"
-#include "collision/sphere_batch.hpp"
+#include "collision/narrow_phase/box_batch.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
+#include "collision/narrow_phase/sphere_batch.hpp"
+#include "collision/shapes/convex_hull.hpp"
 
 namespace {
 
@@ -316,7 +316,7 @@ void BM_SphereSphereArray_Tumble(benchmark::State& state) {
 }
 
 // The same pairs as structure-of-arrays (spheres 2i and 2i + 1 form pair i), for the batched
-// paths (collision/sphere_batch.hpp).
+// paths (collision/narrow_phase/sphere_batch.hpp).
 struct SphereSoa {
   std::vector<Real> x, y, z, radius;
   std::vector<SpherePair> pairs;

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "collision/broad_phase.hpp"
-#include "collision/brute_force_broad_phase.hpp"
+#include "collision/broad_phase/broad_phase.hpp"
+#include "collision/broad_phase/brute_force_broad_phase.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::test {

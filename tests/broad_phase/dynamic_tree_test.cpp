@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "collision/dynamic_aabb_tree.hpp"
-#include "collision/dynamic_tree_broad_phase.hpp"
+#include "collision/broad_phase/dynamic_aabb_tree.hpp"
+#include "collision/broad_phase/dynamic_tree_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

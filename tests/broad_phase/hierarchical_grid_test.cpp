@@ -5,7 +5,7 @@
 #include <limits>
 #include <random>
 
-#include "collision/hierarchical_grid_broad_phase.hpp"
+#include "collision/broad_phase/hierarchical_grid_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <random>
 
-#include "collision/kd_tree_broad_phase.hpp"
+#include "collision/broad_phase/kd_tree_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "collision/linear_bvh_broad_phase.hpp"
+#include "collision/broad_phase/linear_bvh_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

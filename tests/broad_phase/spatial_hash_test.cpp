@@ -1,7 +1,7 @@
 // Spatial hash against brute force: the shared random layouts with the automatic cell size and
 // with cells much smaller and much larger than the boxes, a box spanning 1000 cells, cells that
 // collide in the hash, planes, queries between two builds, and the cell-size rule.
-#include "collision/spatial_hash_broad_phase.hpp"
+#include "collision/broad_phase/spatial_hash_broad_phase.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "collision/brute_force_broad_phase.hpp"
+#include "collision/broad_phase/brute_force_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

@@ -1,6 +1,6 @@
 // Sweep and prune against brute force: the shared random layouts, both update paths (insertion
 // sort and remove/reinsert) forced on their own, endpoints that tie exactly, and planes.
-#include "collision/sweep_and_prune_broad_phase.hpp"
+#include "collision/broad_phase/sweep_and_prune_broad_phase.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "collision/brute_force_broad_phase.hpp"
+#include "collision/broad_phase/brute_force_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

@@ -3,7 +3,7 @@
 #include <limits>
 #include <random>
 
-#include "collision/uniform_grid_broad_phase.hpp"
+#include "collision/broad_phase/uniform_grid_broad_phase.hpp"
 #include "tests/broad_phase/broad_phase_property.hpp"
 
 namespace tumble::test {

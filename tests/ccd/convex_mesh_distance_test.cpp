@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "collision/ccd/shape_distance.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
 
 namespace tumble::testing {

@@ -15,9 +15,9 @@
 
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
 
 namespace tumble::testing {

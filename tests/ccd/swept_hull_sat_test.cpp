@@ -21,9 +21,9 @@
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/ccd/swept_box_sat.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/gjk.hpp"
-#include "collision/gjk_internal.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk_internal.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
 
 namespace tumble::testing {

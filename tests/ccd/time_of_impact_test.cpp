@@ -14,7 +14,7 @@
 
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/ccd/swept_box_sat.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
 
 namespace tumble::testing {

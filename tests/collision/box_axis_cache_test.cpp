@@ -1,5 +1,6 @@
-// The separating-axis cache of box pairs (collision/box_axis_cache.hpp), against independent
-// truth, on thousands of random box pairs (fixed seed; TUMBLE_PROPERTY_SCALE scales the count):
+// The separating-axis cache of box pairs (collision/narrow_phase/box_axis_cache.hpp), against
+// independent truth, on thousands of random box pairs (fixed seed; TUMBLE_PROPERTY_SCALE scales the
+// count):
 //   - box_axis_separation equals the gap between the two boxes' corner projections on the axis,
 //     built in the world frame from the poses (min over A's corners minus max over B's, the
 //     larger of the two orientations), never the cache's own algebra;
@@ -14,8 +15,8 @@
 #include <cmath>
 #include <limits>
 
-#include "collision/box_axis_cache.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/box_axis_cache.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "collision/box_batch.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/pairs.hpp"
+#include "collision/narrow_phase/box_batch.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

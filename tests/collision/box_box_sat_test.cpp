@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "collision/manifold_reduction.hpp"
-#include "collision/pairs/pairs.hpp"
+#include "collision/narrow_phase/pairs/manifold_reduction.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -5,7 +5,7 @@
 #include <random>
 #include <set>
 
-#include "collision/brute_force_broad_phase.hpp"
+#include "collision/broad_phase/brute_force_broad_phase.hpp"
 
 namespace tumble {
 namespace {

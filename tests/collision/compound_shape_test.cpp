@@ -3,8 +3,8 @@
 // the parts' own contacts.
 #include <gtest/gtest.h>
 
-#include "collision/compound_shape.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/compound_shape.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/oracle.hpp"
 

@@ -1,15 +1,15 @@
-// The contact collector (collision/pairs/contact_collector.hpp) merges points closer than its
-// merge distance, keeping the deepest: a box corner on a mesh vertex where several triangles
-// meet gives one contact per triangle a hair apart, and the solver must see one row there, not
-// four copies of it. Checked on the corner case and on thousands of random candidate sets
-// (fixed seed) against brute force: no two kept points closer than the distance, the deepest
+// The contact collector (collision/narrow_phase/pairs/contact_collector.hpp) merges points closer
+// than its merge distance, keeping the deepest: a box corner on a mesh vertex where several
+// triangles meet gives one contact per triangle a hair apart, and the solver must see one row
+// there, not four copies of it. Checked on the corner case and on thousands of random candidate
+// sets (fixed seed) against brute force: no two kept points closer than the distance, the deepest
 // candidate always kept.
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
 
-#include "collision/pairs/contact_collector.hpp"
+#include "collision/narrow_phase/pairs/contact_collector.hpp"
 
 namespace tumble::test {
 namespace {

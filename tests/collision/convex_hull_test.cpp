@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/shape.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {

@@ -1,5 +1,6 @@
-// Cylinder and hull against triangle meshes (collision/pairs/convex_triangle_generic.cpp, via
-// GJK/EPA and the internal-edge rules of convex_triangle.hpp):
+// Cylinder and hull against triangle meshes
+// (collision/narrow_phase/pairs/convex_triangle_generic.cpp, via GJK/EPA and the internal-edge
+// rules of convex_triangle.hpp):
 //   - on a flat 10 x 10 grid (200 triangles in z = 0) a random hull or cylinder anywhere well
 //     inside the grid, from 0.1 m into the floor to a margin above it, gets exactly the plane's
 //     deepest depth and the normal +z (the plane pair is the truth: its support-map depth is
@@ -19,7 +20,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/oracle.hpp"
 

@@ -1,18 +1,18 @@
-// collide() with a GJK warm start (collision/narrow_phase.hpp) against collide() from cold, for
-// every ordered pair of convex shape types that collide() answers by GJK/EPA: random shapes at
-// random poses (fixed seed; TUMBLE_PROPERTY_SCALE scales the count), each queried once to fill
-// the cache, then moved a little as in one step and queried warm and cold. The two answers must
-// agree: the deepest depths within 1e-8 m and the normals within 1e-4 (GJK stops when the distance
-// is known to 1e-10 of itself; on a cylinder's curved side the direction is then known to a few
-// 1e-5), and the number of points in all but one case in a thousand (a normal a hair different
-// can tip a face over the alignment that makes a face contact). Never does one find a contact and
-// the other none.
+// collide() with a GJK warm start (collision/narrow_phase/narrow_phase.hpp) against collide() from
+// cold, for every ordered pair of convex shape types that collide() answers by GJK/EPA: random
+// shapes at random poses (fixed seed; TUMBLE_PROPERTY_SCALE scales the count), each queried once to
+// fill the cache, then moved a little as in one step and queried warm and cold. The two answers
+// must agree: the deepest depths within 1e-8 m and the normals within 1e-4 (GJK stops when the
+// distance is known to 1e-10 of itself; on a cylinder's curved side the direction is then known to
+// a few 1e-5), and the number of points in all but one case in a thousand (a normal a hair
+// different can tip a face over the alignment that makes a face contact). Never does one find a
+// contact and the other none.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

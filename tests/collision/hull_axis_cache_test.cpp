@@ -1,6 +1,6 @@
-// The separating-direction cache of hull pairs (collision/hull_axis_cache.hpp), against
-// independent truth on thousands of random hull pairs (fixed seed; TUMBLE_PROPERTY_SCALE scales
-// the count):
+// The separating-direction cache of hull pairs (collision/narrow_phase/hull_axis_cache.hpp),
+// against independent truth on thousands of random hull pairs (fixed seed; TUMBLE_PROPERTY_SCALE
+// scales the count):
 //   - hull_axis_separation, climbed from arbitrary supports, equals the separation along the
 //     direction measured by scanning every vertex of both hulls in the world frame;
 //   - whenever a direction separates a pair by more than the margin, collide() finds no contact;
@@ -12,9 +12,9 @@
 #include <cmath>
 #include <limits>
 
-#include "collision/gjk.hpp"
-#include "collision/hull_axis_cache.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/hull_axis_cache.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

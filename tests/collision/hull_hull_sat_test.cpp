@@ -1,5 +1,5 @@
-// The hull-hull separating-axis test (collision/pairs/hull_hull_sat.cpp) against independent
-// truth:
+// The hull-hull separating-axis test (collision/narrow_phase/pairs/hull_hull_sat.cpp) against
+// independent truth:
 //   * the Gauss-map arc predicate against arcs sampled point by point;
 //   * the query's largest separation against brute force over every face normal and every edge
 //     pair's cross product (no pruning, separations by projecting every vertex), and against
@@ -18,11 +18,11 @@
 #include <memory>
 #include <vector>
 
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/hull_hull_sat.hpp"
-#include "collision/pairs/pairs.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/pairs/hull_hull_sat.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -10,8 +10,8 @@
 #include <limits>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/hull_support_scan.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/hull_support_scan.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -1,12 +1,12 @@
-// Contact recycling (collision/manifold_recycling.hpp) against fresh queries: a kept manifold
-// moved with both bodies is the fresh manifold, its depths follow a relative motion exactly, and
-// it is refused once the relative pose leaves the tolerances.
+// Contact recycling (collision/narrow_phase/manifold_recycling.hpp) against fresh queries: a kept
+// manifold moved with both bodies is the fresh manifold, its depths follow a relative motion
+// exactly, and it is refused once the relative pose leaves the tolerances.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "collision/manifold_recycling.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/manifold_recycling.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 
 namespace tumble {
 namespace {

@@ -1,6 +1,6 @@
 // manifold_reduction against its definition (deepest point, the point farthest from it, then
 // the largest area) and against the best possible choice found by trying every subset.
-#include "collision/manifold_reduction.hpp"
+#include "collision/narrow_phase/pairs/manifold_reduction.hpp"
 
 #include <gtest/gtest.h>
 

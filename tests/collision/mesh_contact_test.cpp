@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "collision/compound_shape.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/pairs/convex_triangle.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/pairs/convex_triangle.hpp"
+#include "collision/shapes/compound_shape.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/oracle.hpp"
 

@@ -5,8 +5,8 @@
 #include <memory>
 #include <vector>
 
-#include "collision/shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::testing {

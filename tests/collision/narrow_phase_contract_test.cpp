@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

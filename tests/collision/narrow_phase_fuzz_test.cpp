@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <vector>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {

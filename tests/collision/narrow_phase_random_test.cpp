@@ -17,7 +17,7 @@
 #include <cstdio>
 #include <string>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {

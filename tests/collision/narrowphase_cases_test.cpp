@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/narrow_phase.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <numbers>
 
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 
 namespace tumble::testing {
 

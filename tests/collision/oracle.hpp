@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "collision/contact.hpp"
-#include "collision/convex_hull.hpp"
-#include "collision/shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble::testing {
 

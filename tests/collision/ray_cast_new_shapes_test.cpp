@@ -16,7 +16,7 @@
 #include <functional>
 
 #include "collision/ccd/ray_cast.hpp"
-#include "collision/compound_shape.hpp"
+#include "collision/shapes/compound_shape.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/oracle.hpp"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "collision/shape.hpp"
+#include "collision/shapes/shape.hpp"
 #include "tests/collision/oracle.hpp"
 
 namespace tumble::testing {

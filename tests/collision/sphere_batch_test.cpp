@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "collision/narrow_phase.hpp"
-#include "collision/sphere_batch.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/narrow_phase/sphere_batch.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 
 namespace tumble::testing {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <set>
 
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/oracle.hpp"
 

@@ -30,8 +30,8 @@
 #include <string>
 #include <vector>
 
-#include "collision/epa.hpp"
-#include "collision/gjk.hpp"
+#include "collision/narrow_phase/gjk_epa/epa.hpp"
+#include "collision/narrow_phase/gjk_epa/gjk.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 

@@ -1,7 +1,8 @@
-// The world's separating-axis cache for box pairs (collision/box_axis_cache.hpp) changes no bit
-// of a trajectory: a pile of tumbling boxes is stepped twice, once as it is and once with the
-// cached axes dropped before every step (so every box pair is queried in full), and the bodies
-// must agree bit for bit at every step, while the cache does skip most of the separated pairs.
+// The world's separating-axis cache for box pairs (collision/narrow_phase/box_axis_cache.hpp)
+// changes no bit of a trajectory: a pile of tumbling boxes is stepped twice, once as it is and once
+// with the cached axes dropped before every step (so every box pair is queried in full), and the
+// bodies must agree bit for bit at every step, while the cache does skip most of the separated
+// pairs.
 #include <gtest/gtest.h>
 
 #include <memory>

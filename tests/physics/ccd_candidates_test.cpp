@@ -18,7 +18,7 @@
 #include <memory>
 #include <random>
 
-#include "collision/broad_phase_factory.hpp"
+#include "collision/broad_phase/broad_phase_factory.hpp"
 #include "collision/ccd/rigid_motion.hpp"
 #include "engine/continuous_collision.hpp"
 #include "engine/simulation.hpp"

@@ -8,7 +8,7 @@
 
 #include <memory>
 
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 

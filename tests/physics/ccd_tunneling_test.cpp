@@ -16,8 +16,8 @@
 #include <memory>
 #include <random>
 
-#include "collision/compound_shape.hpp"
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/physics/scene_fixture.hpp"

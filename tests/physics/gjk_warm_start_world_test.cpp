@@ -12,7 +12,7 @@
 #include <cmath>
 #include <memory>
 
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/property_scale.hpp"

@@ -1,13 +1,13 @@
-// The world's separating-direction cache for hull pairs (collision/hull_axis_cache.hpp) changes
-// no bit of a trajectory: hulls dropped in a loose grid onto a floor, landing on each other, are
-// stepped twice, once as they are and once with the cached directions dropped before every step
-// (every hull pair queried in full), and the bodies must agree bit for bit at every step, while the
-// cache does skip most of the separated pairs.
+// The world's separating-direction cache for hull pairs
+// (collision/narrow_phase/hull_axis_cache.hpp) changes no bit of a trajectory: hulls dropped in a
+// loose grid onto a floor, landing on each other, are stepped twice, once as they are and once with
+// the cached directions dropped before every step (every hull pair queried in full), and the bodies
+// must agree bit for bit at every step, while the cache does skip most of the separated pairs.
 #include <gtest/gtest.h>
 
 #include <memory>
 
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/physics/cache_dropping_run.hpp"

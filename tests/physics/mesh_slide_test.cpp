@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/physics/scene_fixture.hpp"
 
 namespace tumble::test {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "collision/broad_phase_factory.hpp"
+#include "collision/broad_phase/broad_phase_factory.hpp"
 #include "tests/physics/scene_fixture.hpp"
 
 namespace tumble::test {

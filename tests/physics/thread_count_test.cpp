@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "collision/convex_hull.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "engine/simulation.hpp"
 #include "tests/physics/body_builders.hpp"
 #include "tests/property_scale.hpp"

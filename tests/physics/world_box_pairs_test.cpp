@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/physics/scene_fixture.hpp"
 

@@ -10,8 +10,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "collision/compound_shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "renders/mesh.hpp"
 #include "tests/property_scale.hpp"
 

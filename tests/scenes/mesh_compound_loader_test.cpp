@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "collision/compound_shape.hpp"
-#include "collision/triangle_mesh.hpp"
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
 

@@ -1,7 +1,7 @@
 // Valid scenes load into the Scene values they describe: every field arrives, defaults are the
 // documented ones, mass and inertia follow from density by closed forms computed here
-// independently of collision/shape.cpp, orientations come out exactly unit, and materials keep
-// file order behind `default`.
+// independently of collision/shapes/shape.cpp, orientations come out exactly unit, and materials
+// keep file order behind `default`.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "collision/convex_hull.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "scenes/scene_loader.hpp"
 
 namespace tumble {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "collision/narrow_phase.hpp"
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/property_scale.hpp"
@@ -71,9 +71,9 @@ inline Real deepest_penetration(const Simulation& world) {
 
 // Steps `world` for `seconds`, watching the bodies `watched` (empty: all dynamic ones).
 // `sample_every` steps the penetration is measured; `each_step` (optional) sees every step.
-inline StabilityRecord run_and_record(Simulation& world, Real seconds, std::vector<int> watched,
-                                      int sample_every,
-                                      const std::function<void(const Simulation&)>& each_step = {}) {
+inline StabilityRecord run_and_record(
+    Simulation& world, Real seconds, std::vector<int> watched, int sample_every,
+    const std::function<void(const Simulation&)>& each_step = {}) {
   const Scene& scene = world.scene();
   if (watched.empty()) {
     for (std::size_t i = 0; i < scene.bodies.size(); ++i)

@@ -1,0 +1,210 @@
+// The narrow phase entry point and its dispatch table (the table reads like MuJoCo's
+// mjCOLLISIONFUNC). Each unordered pair of shape types has one pair function, written
+// for one order (collision/narrow_phase/pairs/); the table runs it directly or through `flipped`,
+// which swaps the arguments and then flips the normal and swaps the feature ids. So calling with A
+// and B swapped gives the mirrored answer by construction, bit for bit.
+//
+// Pair-local frame: every pair function runs with the translations re-expressed relative to the
+// first shape of its own order (the sphere in sphere-box, the bounded shape against a plane), and
+// the contact positions are moved back at the end. Bodies 1e6 m from the origin then keep the
+// precision they have at the origin, a plane's translation can be anywhere on the plane, and a
+// swapped call runs exactly the same arithmetic as the unswapped one. The one exception is
+// sphere-sphere: its function is symmetric in A and B by construction and runs on the world
+// translations as they are (their difference is as precise as in a pair frame), which keeps it
+// cheap enough to batch (collision/narrow_phase/sphere_batch.hpp gives the same bits over arrays).
+//
+// Two shapes of the same type have no natural order, so `ordered` picks one with a fixed rule
+// (runs_first below) that depends on the shapes and poses but not on the argument order.
+#include "collision/narrow_phase/narrow_phase.hpp"
+
+#include <array>
+#include <cmath>
+#include <tuple>
+
+#include "collision/narrow_phase/compound_collide.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
+#include "collision/shapes/convex_hull.hpp"
+
+namespace tumble {
+
+namespace detail {
+
+namespace {
+
+// Two shapes of equal dimensions: ordered by their offset along a fixed generic direction (1,
+// sqrt2, sqrt3)/sqrt6, which no axis-aligned or diagonal offset is perpendicular to, so the order
+// of two bodies stacked, side by side or in a row does not flip from noise. Exact ties fall to the
+// pose coefficients.
+bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
+  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
+                                Real(0.70710678118654757)};
+  const Vec3 offset = pose_a.translation - pose_b.translation;
+  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
+  if (along != 0)
+    return along < 0;
+  const auto coefficients = [](const Transform& p) {
+    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
+                           p.rotation.x(), p.rotation.y(), p.rotation.z());
+  };
+  return coefficients(pose_a) <= coefficients(pose_b);
+}
+
+}  // namespace
+
+// Whether `a` goes first in a same-type pair (declared in pairs.hpp). The shapes' dimensions
+// decide first (they never change, so the order is stable for the life of the pair); equal shapes
+// are ordered by their poses.
+bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
+  // Hulls are told apart by content (volume, vertex count), never by address, so the order is
+  // the same in every run.
+  const auto dimensions = [](const Shape& s) {
+    const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
+    const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
+    return std::make_tuple(s.radius, s.half_length, s.half_extents.x(), s.half_extents.y(),
+                           s.half_extents.z(), hull_volume, hull_vertices);
+  };
+  if (dimensions(a) != dimensions(b))
+    return dimensions(a) < dimensions(b);
+  return runs_first_by_pose(pose_a, pose_b);
+}
+
+// runs_first for two boxes, whose other dimensions are all 0, without making Shapes.
+bool boxes_run_first(const Vec3& half_a, const Transform& pose_a, const Vec3& half_b,
+                     const Transform& pose_b) {
+  const auto extents = [](const Vec3& h) { return std::make_tuple(h.x(), h.y(), h.z()); };
+  if (extents(half_a) != extents(half_b))
+    return extents(half_a) < extents(half_b);
+  return runs_first_by_pose(pose_a, pose_b);
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::PairFunction;
+
+template <PairFunction pair>
+int in_pair_frame(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+                  Real margin, Manifold& out) {
+  const Vec3 origin = pose_a.translation;
+  const Transform local_a{Vec3::Zero(), pose_a.rotation};
+  const Transform local_b{pose_b.translation - origin, pose_b.rotation};
+  const int count = pair(a, local_a, b, local_b, margin, out);
+  for (int i = 0; i < count; ++i)
+    out.points[i].position += origin;
+  return count;
+}
+
+template <PairFunction pair>
+int flipped(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out) {
+  const int count = in_pair_frame<pair>(b, pose_b, a, pose_a, margin, out);
+  out.normal = -out.normal;
+  for (int i = 0; i < count; ++i)
+    out.points[i].feature = out.points[i].feature.swapped();
+  return count;
+}
+
+template <PairFunction pair>
+int ordered(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out) {
+  return detail::runs_first(a, pose_a, b, pose_b)
+             ? in_pair_frame<pair>(a, pose_a, b, pose_b, margin, out)
+             : flipped<pair>(a, pose_a, b, pose_b, margin, out);
+}
+
+int no_contact(const Shape&, const Transform&, const Shape&, const Transform&, Real, Manifold&) {
+  // Planes and meshes are static: two static shapes never need contacts (plane-plane,
+  // plane-mesh, mesh-mesh).
+  return 0;
+}
+
+static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
+                  int(ShapeType::capsule) == 2 && int(ShapeType::plane) == 3 &&
+                  int(ShapeType::cylinder) == 4 && int(ShapeType::hull) == 5 &&
+                  int(ShapeType::mesh) == 6 && int(ShapeType::compound) == 7 &&
+                  kShapeTypeCount == 8,
+              "the table below is indexed by ShapeType");
+
+using namespace detail;
+
+// Short names so the table reads as a grid.
+template <PairFunction f>
+constexpr PairFunction as = in_pair_frame<f>;
+template <PairFunction f>
+constexpr PairFunction fl = flipped<f>;
+template <PairFunction f>
+constexpr PairFunction same = ordered<f>;
+constexpr PairFunction cvx = in_pair_frame<convex_convex>;
+constexpr PairFunction xvc = flipped<convex_convex>;
+
+// collide_table[type of A][type of B]: `as<f>` runs f as written, `fl<f>` runs f with the
+// arguments swapped and mirrors its answer, `same<f>` does one or the other for two shapes of one
+// type; sphere_sphere is called as it is (symmetric by construction). cvx / xvc: the generic
+// GJK/EPA pair (convex_pairs.cpp), as written / flipped; hull-hull has its own separating-axis
+// pair (hull_hull_sat.cpp: faster than GJK+EPA and exact, see docs/narrow-phase-benchmark.md).
+// Planes
+// and meshes are static, so plane-plane, plane-mesh and mesh-mesh never need contacts.
+// clang-format off
+constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
+  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh         compound
+  /* sphere   */ {{sphere_sphere,      as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>}},
+  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
+  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<hull_hull>,        as<convex_mesh>, fl<compound_any>}},
+  /* mesh     */ {{fl<convex_mesh>,   fl<convex_mesh>,    fl<convex_mesh>,        no_contact,            fl<convex_mesh>,          fl<convex_mesh>,        no_contact,      fl<compound_any>}},
+  /* compound */ {{as<compound_any>,  as<compound_any>,   as<compound_any>,       as<compound_any>,      as<compound_any>,         as<compound_any>,       as<compound_any>, same<compound_any>}},
+}};
+// clang-format on
+
+}  // namespace
+
+int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out) {
+  out = Manifold{};
+  const int count =
+      collide_table[std::size_t(a.type)][std::size_t(b.type)](a, pose_a, b, pose_b, margin, out);
+  // No points, no normal: an empty manifold looks the same whichever way it was asked.
+  if (count == 0)
+    out = Manifold{};
+  return count;
+}
+
+bool collides_by_gjk(ShapeType a, ShapeType b) {
+  const PairFunction f = collide_table[std::size_t(a)][std::size_t(b)];
+  return f == cvx || f == xvc;
+}
+
+int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out, GjkCache& cache) {
+  const PairFunction f = collide_table[std::size_t(a.type)][std::size_t(b.type)];
+  if (f != cvx && f != xvc)
+    return collide(a, pose_a, b, pose_b, margin, out);
+  out = Manifold{};
+  // As in_pair_frame and flipped do for the table's entries: the cache lives in the frame of the
+  // shape that runs first, which a flipped entry makes B.
+  const bool flip = f == xvc;
+  const Shape& first = flip ? b : a;
+  const Shape& second = flip ? a : b;
+  const Transform& pose_first = flip ? pose_b : pose_a;
+  const Transform& pose_second = flip ? pose_a : pose_b;
+  const Vec3 origin = pose_first.translation;
+  const Transform local_first{Vec3::Zero(), pose_first.rotation};
+  const Transform local_second{pose_second.translation - origin, pose_second.rotation};
+  const int count =
+      convex_convex_cached(first, local_first, second, local_second, margin, out, &cache);
+  for (int i = 0; i < count; ++i)
+    out.points[i].position += origin;
+  if (flip) {
+    out.normal = -out.normal;
+    for (int i = 0; i < count; ++i)
+      out.points[i].feature = out.points[i].feature.swapped();
+  }
+  if (count == 0)
+    out = Manifold{};
+  return count;
+}
+
+}  // namespace tumble
