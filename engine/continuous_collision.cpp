@@ -161,8 +161,9 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
   if (search == PairSearch::every_pair) {
     for (const std::int32_t s : swept_list_) {
       for (std::int32_t other = 0; other < static_cast<std::int32_t>(n); ++other) {
-        if (other == s || (swept_[other] && other < s))
-          continue;  // a pair of swept bodies once
+        // A pair of swept bodies once; an empty slot (a removed body) never.
+        if (other == s || (swept_[other] && other < s) || model.is_removed(std::size_t(other)))
+          continue;
         add_pair(std::min(s, other), std::max(s, other), counts);
       }
     }
@@ -187,6 +188,8 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     for (std::size_t i = 0; i < n; ++i) {
       const BodyDesc& d = scene.bodies[i];
       const std::int32_t id = static_cast<std::int32_t>(i);
+      if (model.is_removed(i))
+        continue;  // an empty slot (a removed body) is nothing to hit
       if (swept_[i]) {
         entries_.push_back({swept_boxes_[i], id, 1});
       } else if (d.shape.is_bounded()) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <unordered_set>
 
+#include "collision/shapes/compound_shape.hpp"
+#include "engine/number_text.hpp"
 #include "engine/scene_check.hpp"
 #include "engine/scene_limits.hpp"
 #include "tumble/error.hpp"
@@ -17,16 +19,6 @@ namespace tumble {
 namespace {
 
 using namespace scene_limits;
-
-std::string number_text(Real v) {
-  if (std::isnan(v))
-    return "nan";
-  if (std::isinf(v))
-    return v > 0 ? "inf" : "-inf";
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, result.ptr);
-}
 
 class Checker {
  public:
@@ -140,6 +132,8 @@ class Checker {
         if (!s.compound)
           fail(field,
                "a compound shape without its parts (build it with tumble::compound_from_parts)");
+        for (std::size_t i = 0; i < s.compound->parts().size(); ++i)
+          shape(s.compound->parts()[i].shape, field + ".parts[" + std::to_string(i) + "].shape");
         return;
     }
     fail(field + ".type", "unknown shape type " + std::to_string(static_cast<int>(s.type)));
@@ -159,6 +153,10 @@ class Checker {
                                     " materials, got " + std::to_string(b.material));
     if (b.is_static && b.kinematic)
       fail(field + ".kinematic", "a body is static or kinematic, not both");
+    if (b.is_static && !(b.velocity.isZero(0) && b.angular_velocity.isZero(0)))
+      fail(field + ".velocity",
+           "a static body never moves, so its velocities must be zero (make "
+           "it kinematic to move it)");
     const bool unbounded = b.shape.type == ShapeType::plane || b.shape.type == ShapeType::mesh;
     if (unbounded && !b.is_static)
       fail(field + ".static", std::string("a ") +

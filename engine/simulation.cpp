@@ -16,6 +16,7 @@
 #include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/narrow_phase/sphere_batch.hpp"
 #include "engine/broad_phase_choice.hpp"
+#include "tumble/error.hpp"
 
 namespace tumble {
 namespace {
@@ -150,7 +151,21 @@ void Simulation::set_threads(int threads) {
 }
 
 void Simulation::set_state(const State& state) {
+  if (state.bodies.size() != scene_->bodies.size())
+    throw Error("Simulation::set_state: the state has " + std::to_string(state.bodies.size()) +
+                " bodies, the world " + std::to_string(scene_->bodies.size()));
   state_ = state;
+  // What the last step found and what was asked of the next one belong to the state left behind.
+  contacts_.clear();
+  penalty_springs_.clear();
+  candidate_pairs_.clear();
+  for (const std::int32_t i : loaded_bodies_) {
+    force_[std::size_t(i)].setZero();
+    torque_[std::size_t(i)].setZero();
+    loaded_[std::size_t(i)] = 0;
+  }
+  loaded_bodies_.clear();
+  std::fill(has_target_.begin(), has_target_.end(), std::uint8_t(0));
   // A state made by hand may leave the sleep records out: nothing sleeps then.
   state_.slow_time.resize(state_.bodies.size(), 0);
   state_.asleep.resize(state_.bodies.size(), 0);
@@ -161,10 +176,29 @@ void Simulation::set_state(const State& state) {
 
 void Simulation::teleport(int body, const Vec3& position, const Quat& orientation) {
   BodyState& b = state_.bodies[std::size_t(body)];
+  const Shape& shape = scene_->bodies[std::size_t(body)].shape;
+  // What rested on the body where it was, and what it lands among, must notice.
+  if (shape.is_bounded())
+    wake_near(world_aabb(shape, pose_of(b)));
   b.position = position;
   b.orientation = orientation.normalized();
   drop_pairs_of(body);
   rebuild_broad_phase();
+  if (shape.is_bounded())
+    wake_near(world_aabb(shape, pose_of(b)));
+  if (!model_->is_fixed(std::size_t(body)))
+    wake(body);
+}
+
+// Wakes every moving body whose box, grown by the contact margin, meets `box`.
+void Simulation::wake_near(const Aabb& box) {
+  if (!scene_->world.sleeping)
+    return;
+  broad_phase_->query(box.inflated(scene_->world.contact_margin), query_scratch_);
+  for (const std::int32_t i : query_scratch_) {
+    if (!model_->is_fixed(std::size_t(i)))
+      wake(i);
+  }
 }
 
 // The kept caches of every pair the body is in.
@@ -246,6 +280,8 @@ int Simulation::add_body(const BodyDesc& desc) {
 
 void Simulation::remove_body(int body) {
   const std::size_t i = std::size_t(body);
+  // What rested on it falls: wake it (a plane's box is the whole half-space).
+  wake_near(world_aabb(scene_->bodies[i].shape, pose_of(state_.bodies[i])));
   broad_phase_->remove(body);
   drop_pairs_of(body);
   const auto involves = [body](const auto& e) { return e.body_a == body || e.body_b == body; };
@@ -276,6 +312,7 @@ void Simulation::remove_body(int body) {
 
 void Simulation::rebuild_broad_phase() {
   broad_phase_ = make_broad_phase(broad_phase_type_);
+  bounds_stale_ = false;
   for (std::size_t i = 0; i < scene_->bodies.size(); ++i) {
     if (model_->is_removed(i))
       continue;
@@ -372,6 +409,7 @@ void Simulation::step_on_runner() {
   finish_contacts();
   update_sleep(w.dt);
 
+  bounds_stale_ = true;
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
   state_.time = static_cast<Real>(state_.step) * w.dt;
@@ -1116,9 +1154,45 @@ WorldMemory Simulation::memory() const {
   return m;
 }
 
+void Simulation::contact_forces(std::span<Real> xyz, std::span<std::int32_t> counts) const {
+  std::fill(xyz.begin(), xyz.end(), Real(0));
+  std::fill(counts.begin(), counts.end(), 0);
+  const Real per_second = report_impulse_scale() / scene_->world.dt;
+  const std::vector<CachedManifold>& impulses = state_.contacts;
+  std::size_t cursor = 0;
+  for (const PairContact& pc : contacts_) {
+    const CachedManifold* kept = find_pair(impulses, cursor, pc.body_a, pc.body_b);
+    ++counts[std::size_t(pc.body_a)];
+    ++counts[std::size_t(pc.body_b)];
+    if (kept == nullptr)
+      continue;
+    Vec3 total = Vec3::Zero();
+    for (int k = 0; k < kept->count; ++k) {
+      const CachedContactPoint& p = kept->points[std::size_t(k)];
+      total += pc.manifold.normal * p.normal_impulse + p.friction_impulse;
+    }
+    // The impulse pushes A along the normal and B against it.
+    for (int c = 0; c < 3; ++c) {
+      xyz[3 * std::size_t(pc.body_a) + std::size_t(c)] += total[c] * per_second;
+      xyz[3 * std::size_t(pc.body_b) + std::size_t(c)] -= total[c] * per_second;
+    }
+  }
+}
+
 Simulation::RayResult Simulation::ray_cast(const Vec3& origin, const Vec3& direction,
-                                           Real max_distance) const {
-  std::vector<std::int32_t> candidates;
+                                           Real max_distance) {
+  if (bounds_stale_) {
+    // The next step sets every moving body's box again, and the broad phase's pairs do not
+    // depend on the boxes it held before, so this changes no result.
+    for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+      if (scene_->bodies[i].is_static)
+        continue;
+      broad_phase_->update(static_cast<std::int32_t>(i),
+                           world_aabb(scene_->bodies[i].shape, pose_of(state_.bodies[i])));
+    }
+    bounds_stale_ = false;
+  }
+  std::vector<std::int32_t>& candidates = query_scratch_;
   broad_phase_->ray_cast(origin, direction, max_distance, candidates);
   RayResult best;
   best.distance = max_distance;

@@ -40,6 +40,7 @@ class Simulation {
 
   const Scene& scene() const { return *scene_; }
   const Model& model() const { return *model_; }
+  const std::shared_ptr<const Model>& model_pointer() const { return model_; }
   const State& state() const { return state_; }
   const BodyMass& mass(int body) const { return masses_[std::size_t(body)]; }
   // The broad-phase structure in use (the scene's choice, or the one `auto` picked).
@@ -90,6 +91,15 @@ class Simulation {
 
   WorldMemory memory() const;
 
+  // The contact force on each body over the last step [N] (its contacts' impulses over dt), as
+  // x, y, z per body, and the number of touching pairs it was in; both overwritten whole.
+  void contact_forces(std::span<Real> xyz, std::span<std::int32_t> counts) const;
+  // What the kept impulses (state().contacts) are multiplied by to give a step's impulse: the
+  // impulse solver keeps the step's, the penalty solver one substep's.
+  Real report_impulse_scale() const {
+    return scene_->world.solver == SolverType::penalty ? Real(penalty_substeps_) : Real(1);
+  }
+
   // The body the segment origin + t direction, t in [0, max_distance] (direction unit), meets
   // first, and where; body -1 when none.
   struct RayResult {
@@ -97,7 +107,9 @@ class Simulation {
     Real distance = 0;
     Vec3 normal = Vec3::UnitZ();
   };
-  RayResult ray_cast(const Vec3& origin, const Vec3& direction, Real max_distance) const;
+  // Not const: it first brings the broad phase's boxes to the bodies' current poses when a step
+  // has moved them (the boxes are those of the start of the last step).
+  RayResult ray_cast(const Vec3& origin, const Vec3& direction, Real max_distance);
 
   // Totals over all bodies [J]: kinetic, and gravitational potential relative to the origin.
   Real kinetic_energy() const;
@@ -140,6 +152,7 @@ class Simulation {
   void resize_body_arrays();
   void choose_penalty_substeps();
   void drop_pairs_of(int body);
+  void wake_near(const Aabb& box);
   void start_kinematic_motion(Real dt);
   void move_kinematic_bodies(Real fraction, Real dt);
   template <class Update>
@@ -166,6 +179,9 @@ class Simulation {
   std::vector<Transform> kinematic_start_;
   std::vector<Transform> kinematic_target_;
   std::vector<std::uint8_t> has_target_;
+  // The broad phase's boxes are those of the start of the last step, not the current poses.
+  bool bounds_stale_ = false;
+  std::vector<std::int32_t> query_scratch_;
   BroadPhaseType broad_phase_type_ = BroadPhaseType::brute;
   std::unique_ptr<BroadPhase> broad_phase_;
 

@@ -8,22 +8,13 @@
 #include <utility>
 
 #include "engine/model.hpp"
+#include "engine/number_text.hpp"
 #include "engine/scene_check.hpp"
 #include "engine/simulation.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
 namespace {
-
-std::string number_text(Real v) {
-  if (std::isnan(v))
-    return "nan";
-  if (std::isinf(v))
-    return v > 0 ? "inf" : "-inf";
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, result.ptr);
-}
 
 std::string vector_text(const Vec3& v) {
   return "(" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + ")";
@@ -51,10 +42,17 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 const Scene& World::scene() const {
-  return simulation_->scene();
+  return live().scene();
+}
+
+Simulation& World::live() const {
+  if (!simulation_)
+    throw Error("tumble::World: this world was moved from");
+  return *simulation_;
 }
 
 std::int32_t World::checked(BodyId id) const {
+  live();
   if (!is_valid(id)) {
     const bool in_range = id.index >= 0 && std::size_t(id.index) < generation_.size();
     throw Error("tumble::World: body id {" + std::to_string(id.index) + ", " +
@@ -66,15 +64,15 @@ std::int32_t World::checked(BodyId id) const {
 
 std::int32_t World::checked_dynamic(BodyId id, std::string_view call) const {
   const std::int32_t i = checked(id);
-  if (simulation_->model().is_fixed(std::size_t(i)))
+  if (live().model().is_fixed(std::size_t(i)))
     throw Error("tumble::World::" + std::string(call) + ": body '" + name(id) + "' is " +
-                (simulation_->model().is_kinematic(std::size_t(i)) ? "kinematic" : "static") +
+                (live().model().is_kinematic(std::size_t(i)) ? "kinematic" : "static") +
                 "; only dynamic bodies take forces and impulses");
   return i;
 }
 
 bool World::is_valid(BodyId id) const {
-  return id.index >= 0 && std::size_t(id.index) < generation_.size() &&
+  return simulation_ && id.index >= 0 && std::size_t(id.index) < generation_.size() &&
          generation_[std::size_t(id.index)] == id.generation &&
          !simulation_->model().is_removed(std::size_t(id.index));
 }
@@ -88,34 +86,36 @@ BodyId World::body(std::string_view name) const {
 std::optional<BodyId> World::find_body(std::string_view name) const {
   if (name.empty())
     return std::nullopt;
-  const int i = simulation_->scene().find_body(name);
-  if (i < 0 || simulation_->model().is_removed(std::size_t(i)))
+  const int i = live().scene().find_body(name);
+  if (i < 0 || live().model().is_removed(std::size_t(i)))
     return std::nullopt;
   return BodyId{i, generation_[std::size_t(i)]};
 }
 
-const std::string& World::name(BodyId id) const {
-  return simulation_->scene().bodies[std::size_t(checked(id))].name;
+std::string World::name(BodyId id) const {
+  return live().scene().bodies[std::size_t(checked(id))].name;
 }
 
 std::vector<BodyId> World::bodies() const {
   std::vector<BodyId> ids;
   for (std::size_t i = 0; i < generation_.size(); ++i) {
-    if (!simulation_->model().is_removed(i))
+    if (!live().model().is_removed(i))
       ids.push_back({static_cast<std::int32_t>(i), generation_[i]});
   }
   return ids;
 }
 
 int World::body_count() const {
-  return static_cast<int>(generation_.size() - simulation_->model().removed_count());
+  return static_cast<int>(generation_.size() - live().model().removed_count());
 }
 
 BodyId World::add_body(const BodyDesc& desc) {
-  const Scene& scene = simulation_->scene();
+  // The last step's reports are kept as they were: the change drops cached impulses.
+  refresh_reports();
+  const Scene& scene = live().scene();
   std::size_t slot = scene.bodies.size();
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    if (simulation_->model().is_removed(i)) {
+    if (live().model().is_removed(i)) {
       slot = i;
       break;
     }
@@ -125,18 +125,18 @@ BodyId World::add_body(const BodyDesc& desc) {
     throw SceneError(scene.source.empty() ? "scene" : scene.source, 0, 0,
                      "bodies[" + std::to_string(slot) + "].name",
                      "duplicate body name '" + desc.name + "'");
-  const int added = simulation_->add_body(desc);
+  const int added = live().add_body(desc);
   if (std::size_t(added) >= generation_.size())
     generation_.resize(std::size_t(added) + 1, 0);
-  reports_step_ = -1;
   return {added, generation_[std::size_t(added)]};
 }
 
 void World::remove_body(BodyId id) {
   const std::int32_t i = checked(id);
-  simulation_->remove_body(i);
+  // The last step's reports are kept as they were: the change drops cached impulses.
+  refresh_reports();
+  live().remove_body(i);
   ++generation_[std::size_t(i)];
-  reports_step_ = -1;
 }
 
 void World::add_force(BodyId id, const Vec3& force) {
@@ -144,7 +144,7 @@ void World::add_force(BodyId id, const Vec3& force) {
   if (!(force.allFinite() && force.cwiseAbs().maxCoeff() <= kMaxLoad))
     throw Error("tumble::World::add_force: body '" + name(id) + "': force " + vector_text(force) +
                 " N is not finite or beyond 1e15");
-  simulation_->add_force(i, force);
+  live().add_force(i, force);
 }
 
 void World::add_torque(BodyId id, const Vec3& torque) {
@@ -152,7 +152,7 @@ void World::add_torque(BodyId id, const Vec3& torque) {
   if (!(torque.allFinite() && torque.cwiseAbs().maxCoeff() <= kMaxLoad))
     throw Error("tumble::World::add_torque: body '" + name(id) + "': torque " +
                 vector_text(torque) + " N m is not finite or beyond 1e15");
-  simulation_->add_torque(i, torque);
+  live().add_torque(i, torque);
 }
 
 void World::add_force_at(BodyId id, const Vec3& force, const Vec3& world_point) {
@@ -163,9 +163,9 @@ void World::add_force_at(BodyId id, const Vec3& force, const Vec3& world_point) 
   if (!(world_point.allFinite() && world_point.cwiseAbs().maxCoeff() <= kMaxCoordinate))
     throw Error("tumble::World::add_force_at: body '" + name(id) + "': point " +
                 vector_text(world_point) + " m is not finite or beyond 1e9");
-  const Vec3 lever = world_point - simulation_->state().bodies[std::size_t(i)].position;
-  simulation_->add_force(i, force);
-  simulation_->add_torque(i, lever.cross(force));
+  const Vec3 lever = world_point - live().state().bodies[std::size_t(i)].position;
+  live().add_force(i, force);
+  live().add_torque(i, lever.cross(force));
 }
 
 void World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& world_point) {
@@ -176,12 +176,12 @@ void World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& world_poin
   if (!(world_point.allFinite() && world_point.cwiseAbs().maxCoeff() <= kMaxCoordinate))
     throw Error("tumble::World::apply_impulse: body '" + name(id) + "': point " +
                 vector_text(world_point) + " m is not finite or beyond 1e9");
-  simulation_->apply_impulse(i, impulse, world_point);
+  live().apply_impulse(i, impulse, world_point);
 }
 
 void World::set_velocity(BodyId id, const Vec3& linear, const Vec3& angular) {
   const std::int32_t i = checked(id);
-  if (simulation_->scene().bodies[std::size_t(i)].is_static)
+  if (live().scene().bodies[std::size_t(i)].is_static)
     throw Error("tumble::World::set_velocity: body '" + name(id) +
                 "' is static; make it kinematic to move it");
   if (!(linear.allFinite() && linear.cwiseAbs().maxCoeff() <= kMaxSpeed))
@@ -190,10 +190,12 @@ void World::set_velocity(BodyId id, const Vec3& linear, const Vec3& angular) {
   if (!(angular.allFinite() && angular.cwiseAbs().maxCoeff() <= kMaxSpeed))
     throw Error("tumble::World::set_velocity: body '" + name(id) + "': angular velocity " +
                 vector_text(angular) + " rad/s is not finite or beyond 1e6");
-  simulation_->set_velocity(i, linear, angular);
+  live().set_velocity(i, linear, angular);
 }
 
 void World::set_pose(BodyId id, const Vec3& position, const Quat& orientation) {
+  // The last step's reports are kept as they were: the change drops cached impulses.
+  refresh_reports();
   const std::int32_t i = checked(id);
   if (!(position.allFinite() && position.cwiseAbs().maxCoeff() <= kMaxCoordinate))
     throw Error("tumble::World::set_pose: body '" + name(id) + "': position " +
@@ -201,14 +203,14 @@ void World::set_pose(BodyId id, const Vec3& position, const Quat& orientation) {
   if (!(orientation.coeffs().allFinite() && orientation.norm() > 1e-9))
     throw Error("tumble::World::set_pose: body '" + name(id) +
                 "': the orientation is not a finite, non-zero quaternion");
-  simulation_->teleport(i, position, orientation);
+  live().teleport(i, position, orientation);
 }
 
 void World::set_kinematic_target(BodyId id, const Vec3& position, const Quat& orientation) {
   const std::int32_t i = checked(id);
-  if (!simulation_->model().is_kinematic(std::size_t(i)))
+  if (!live().model().is_kinematic(std::size_t(i)))
     throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "' is " +
-                (simulation_->scene().bodies[std::size_t(i)].is_static ? "static" : "dynamic") +
+                (live().scene().bodies[std::size_t(i)].is_static ? "static" : "dynamic") +
                 ", not kinematic (kinematic: true in the scene, or BodyDesc::kinematic)");
   if (!(position.allFinite() && position.cwiseAbs().maxCoeff() <= kMaxCoordinate))
     throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': position " +
@@ -217,28 +219,33 @@ void World::set_kinematic_target(BodyId id, const Vec3& position, const Quat& or
     throw Error("tumble::World::set_kinematic_target: body '" + name(id) +
                 "': the orientation is not a finite, non-zero quaternion");
   // The speed that reaches the target in one step must be one the engine accepts.
-  const Real dt = simulation_->scene().world.dt;
-  const Vec3 travel = position - simulation_->state().bodies[std::size_t(i)].position;
+  const Real dt = live().scene().world.dt;
+  const Vec3 travel = position - live().state().bodies[std::size_t(i)].position;
   if (!(travel.norm() / dt <= kMaxSpeed))
     throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': the target " +
                 vector_text(position) + " is " + number_text(travel.norm()) +
                 " m away, more than 1e6 m/s over one step");
-  simulation_->set_kinematic_target(i, position, orientation);
+  const Quat from = live().state().bodies[std::size_t(i)].orientation;
+  const Real turn = from.angularDistance(orientation.normalized());
+  if (!(turn / dt <= kMaxSpeed))
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': turning " +
+                number_text(turn) + " rad in one step is more than 1e6 rad/s");
+  live().set_kinematic_target(i, position, orientation);
 }
 
 void World::step() {
-  simulation_->step();
+  live().step();
 }
 
 void World::step(int n) {
   if (n < 0)
     throw Error("tumble::World::step: the step count " + std::to_string(n) + " is negative");
   for (int k = 0; k < n; ++k)
-    simulation_->step();
+    live().step();
 }
 
 void World::reset() {
-  simulation_->reset();
+  live().reset();
   reports_step_ = -1;
 }
 
@@ -246,35 +253,36 @@ void World::set_threads(int threads) {
   if (threads > 1024)
     throw Error("tumble::World::set_threads: " + std::to_string(threads) +
                 " threads; at most 1024");
-  simulation_->set_threads(threads);
+  live().set_threads(threads);
 }
 
 int World::threads() const {
-  return simulation_->threads();
+  return live().threads();
 }
 
 BodyState World::body_state(BodyId id) const {
-  return simulation_->state().bodies[std::size_t(checked(id))];
+  return live().state().bodies[std::size_t(checked(id))];
 }
 
 Real World::time() const {
-  return simulation_->state().time;
+  return live().state().time;
 }
 
 std::int64_t World::step_count() const {
-  return simulation_->state().step;
+  return live().state().step;
 }
 
 // The reports of the last step, built on first request: each touching pair's manifold with the
 // impulses the solver kept for it (both lists are sorted by pair).
 void World::refresh_reports() const {
-  const std::int64_t step = simulation_->state().step;
+  const std::int64_t step = live().state().step;
   if (reports_step_ == step)
     return;
   reports_step_ = step;
   reports_.clear();
-  const std::span<const PairContact> contacts = simulation_->contacts();
-  const std::vector<CachedManifold>& impulses = simulation_->state().contacts;
+  const std::span<const PairContact> contacts = live().contacts();
+  const std::vector<CachedManifold>& impulses = live().state().contacts;
+  const Real scale = live().report_impulse_scale();
   std::size_t cursor = 0;
   for (const PairContact& pc : contacts) {
     ContactReport r;
@@ -294,8 +302,8 @@ void World::refresh_reports() const {
       p.position = pc.manifold.points[std::size_t(k)].position;
       p.depth = pc.manifold.points[std::size_t(k)].depth;
       if (kept != nullptr && k < kept->count) {
-        p.normal_impulse = kept->points[std::size_t(k)].normal_impulse;
-        p.friction_impulse = kept->points[std::size_t(k)].friction_impulse;
+        p.normal_impulse = kept->points[std::size_t(k)].normal_impulse * scale;
+        p.friction_impulse = kept->points[std::size_t(k)].friction_impulse * scale;
       }
     }
     reports_.push_back(r);
@@ -320,7 +328,7 @@ std::optional<RayHit> World::ray_cast(const Vec3& origin, const Vec3& direction,
     throw Error("tumble::World::ray_cast: max_distance " + number_text(max_distance) +
                 " m is not between 0 and 2e9");
   const Vec3 unit = direction / length;
-  const Simulation::RayResult r = simulation_->ray_cast(origin, unit, max_distance);
+  const Simulation::RayResult r = live().ray_cast(origin, unit, max_distance);
   if (r.body < 0)
     return std::nullopt;
   RayHit hit;
@@ -332,7 +340,7 @@ std::optional<RayHit> World::ray_cast(const Vec3& origin, const Vec3& direction,
 }
 
 std::uint64_t World::state_hash() const {
-  return simulation_->state_hash();
+  return live().state_hash();
 }
 
 }  // namespace tumble

@@ -12,19 +12,25 @@ namespace tumble {
 
 struct FrameRenderer::Impl {
   render::RenderSettings settings;
-  const Scene* scene = nullptr;  // the scene the renderer's meshes were built for
+  // The model the renderer's meshes were built for: held, so that a world that adds or removes a
+  // body (and so makes a new model) is always noticed.
+  std::shared_ptr<const Model> model;
   std::unique_ptr<render::Renderer> renderer;
   render::Image image;
 
   void follow(const World& world) {
-    if (renderer && scene == &world.scene())
+    const Model& now = world.simulation().model();
+    if (renderer && model.get() == &now)
       return;
+    std::vector<std::uint8_t> hidden(now.body_count(), 0);
+    for (std::size_t i = 0; i < hidden.size(); ++i)
+      hidden[i] = now.is_removed(i) ? 1 : 0;
     try {
-      renderer = std::make_unique<render::Renderer>(world.scene(), settings);
+      renderer = std::make_unique<render::Renderer>(now.scene(), settings, hidden);
     } catch (const std::exception& e) {
       throw Error(std::string("tumble::FrameRenderer: ") + e.what());
     }
-    scene = &world.scene();
+    model = world.simulation().model_pointer();
     // Later frames keep the first frame's camera, so a body added later does not move it.
     settings.camera = renderer->camera();
   }

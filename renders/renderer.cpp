@@ -421,7 +421,8 @@ struct Renderer::Impl {
   }
 };
 
-Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
+                   std::span<const std::uint8_t> hidden)
     : impl_(std::make_unique<Impl>(scene, settings)) {
   Impl& m = *impl_;
   if (settings.width < 16 || settings.width > 8192 || settings.height < 16 ||
@@ -443,7 +444,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 
   TessellationDetail detail;
   std::vector<Real> radii;
-  for (const BodyDesc& body : scene.bodies) {
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodyDesc& body = scene.bodies[i];
+    if (i < hidden.size() && hidden[i] != 0) {
+      m.meshes.emplace_back();  // empty: never drawn
+      continue;
+    }
     if (!body.shape.is_bounded()) {
       m.meshes.emplace_back();
       m.floors.push_back(make_floor(body, bounds, m.camera.target));

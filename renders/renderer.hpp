@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -51,7 +52,9 @@ class Renderer {
   // Builds the meshes of every body and an OSMesa context; `scene` must outlive the renderer.
   // Throws std::invalid_argument for sizes outside 16..8192, a supersample outside 1..4 or a
   // shape it cannot draw, and std::runtime_error when OSMesa cannot create the context.
-  Renderer(const Scene& scene, const RenderSettings& settings);
+  // Bodies whose flag in `hidden` is 1 (empty slots of a world that removed them) are not drawn.
+  Renderer(const Scene& scene, const RenderSettings& settings,
+           std::span<const std::uint8_t> hidden = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

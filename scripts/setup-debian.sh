@@ -6,8 +6,8 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential g++ cmake ninja-build pkg-config clang-format
-  # the layout check (tests/layout/check_dependencies.py)
-  python3
+  # the layout check (tests/layout/check_dependencies.py) and the Python module (python/)
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   # core and scene loading
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   # threads (dynamics/parallel_runner.hpp)

@@ -23,6 +23,19 @@ CompoundShape CompoundShape::build(std::vector<CompoundPart> parts, Vec3* centre
         p.shape.type == ShapeType::compound)
       throw CompoundError(name + " is a " + std::string(shape_type_name(p.shape.type)) +
                           "; parts must be bounded convex shapes");
+    // Every size positive and finite, and a hull part with its hull: a negative extent would pass
+    // the volume test below when two are negative.
+    const Shape& ps = p.shape;
+    const bool sizes_ok = ps.type == ShapeType::box
+                              ? (ps.half_extents.array() > 0).all() && ps.half_extents.allFinite()
+                          : ps.type == ShapeType::hull ? ps.hull != nullptr
+                          : ps.type == ShapeType::sphere
+                              ? ps.radius > 0 && std::isfinite(ps.radius)
+                              : ps.radius > 0 && std::isfinite(ps.radius) && ps.half_length >= 0 &&
+                                    std::isfinite(ps.half_length);
+    if (!sizes_ok)
+      throw CompoundError(name + " (a " + std::string(shape_type_name(ps.type)) +
+                          ") has a size that is not positive and finite, or no hull");
     if (!p.pose.translation.allFinite() || !p.pose.rotation.coeffs().allFinite() ||
         std::abs(p.pose.rotation.norm() - 1) > Real(1e-6))
       throw CompoundError(name + " has a non-finite position or a non-unit orientation");

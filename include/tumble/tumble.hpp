@@ -1,7 +1,8 @@
 // tumble's public API in one include: math aliases, shapes, scene description, loading, the
-// compiled model, World and its queries, errors. docs/api.md walks through it.
+// compiled model, World and its queries, batches of worlds, errors. docs/api.md walks through it.
 #pragma once
 
+#include "tumble/batch_world.hpp"
 #include "tumble/body_state.hpp"
 #include "tumble/error.hpp"
 #include "tumble/load_scene.hpp"

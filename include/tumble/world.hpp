@@ -10,7 +10,9 @@
 //   tumble::BodyState s = world.body_state(box);
 //
 // Every call checks its arguments and throws tumble::Error naming the body and the value when
-// they are wrong; none has undefined behaviour. The engine behind the world stays hidden, so a
+// they are wrong; none has undefined behaviour. A world is used from one thread at a time (its
+// const calls too: reports and ray casts fill caches); different worlds may run on different
+// threads at once. The engine behind the world stays hidden, so a
 // program that includes this header sees no collision or solver code.
 #pragma once
 
@@ -82,7 +84,8 @@ class World {
   World& operator=(const World&) = delete;
 
   // The scene as the world now holds it: the original's, with added bodies appended (or in
-  // freed slots) and removed ones left as empty slots.
+  // freed slots) and removed ones left as empty slots. add_body and remove_body replace it: a
+  // reference taken before them is no longer valid after.
   const Scene& scene() const;
 
   // --- Bodies ---------------------------------------------------------------------------------
@@ -90,7 +93,7 @@ class World {
   BodyId body(std::string_view name) const;
   std::optional<BodyId> find_body(std::string_view name) const;
   bool is_valid(BodyId id) const;
-  const std::string& name(BodyId id) const;
+  std::string name(BodyId id) const;
   // The bodies that exist now, in slot order.
   std::vector<BodyId> bodies() const;
   int body_count() const;
@@ -143,10 +146,11 @@ class World {
   std::uint64_t state_hash() const;
 
   // The engine behind the world, for tumble's own tools (its header is not installed).
-  Simulation& simulation() { return *simulation_; }
-  const Simulation& simulation() const { return *simulation_; }
+  Simulation& simulation() { return live(); }
+  const Simulation& simulation() const { return live(); }
 
  private:
+  Simulation& live() const;               // the simulation, or throws for a moved-from world
   std::int32_t checked(BodyId id) const;  // the slot, or throws
   std::int32_t checked_dynamic(BodyId id, std::string_view call) const;
   void refresh_reports() const;

@@ -28,6 +28,7 @@ RANKS = {
 # Public headers: the vocabulary every module shares, then the facades of higher modules.
 PUBLIC_RANKS = {
     "world.hpp": 8,
+    "batch_world.hpp": 8,
     "load_scene.hpp": 9,
     "render.hpp": 9,
     "tumble.hpp": 9,

@@ -1,0 +1,306 @@
+// tumble::BatchWorld (include/tumble/batch_world.hpp): one World per environment, each stepped on
+// one thread; the worlds are spread over a oneTBB arena. A world touches only its own rows of the
+// shared arrays, so the results do not depend on which thread runs which world.
+#include "tumble/batch_world.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "engine/model.hpp"
+#include "engine/number_text.hpp"
+#include "engine/simulation.hpp"
+#include "tumble/error.hpp"
+
+namespace tumble {
+namespace {
+
+constexpr int kMostWorlds = 1000000;
+constexpr Real kMostLoad = 1e15;  // N, N m
+constexpr Real kMostSpeed = 1e6;  // m/s
+constexpr Real kMostCoordinate = 1e9;
+
+int thread_count(int threads) {
+  if (threads > 0)
+    return threads;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+std::string where(int world, int body, const Scene& scene) {
+  const std::string& name = scene.bodies[std::size_t(body)].name;
+  return "world " + std::to_string(world) + ", body " + std::to_string(body) +
+         (name.empty() ? std::string() : " '" + name + "'");
+}
+
+}  // namespace
+
+struct BatchWorld::Impl {
+  std::shared_ptr<const Model> model;
+  std::vector<World> worlds;
+  int bodies = 0;
+  int threads = 1;
+  std::unique_ptr<tbb::task_arena> arena;
+  std::vector<Real> observations, forces, torques, targets, contact_forces;
+  std::vector<std::uint8_t> target_set;
+  std::vector<std::int32_t> contact_counts;
+
+  Real* row(std::vector<Real>& v, int world, int width) {
+    return v.data() + std::size_t(world) * std::size_t(bodies) * std::size_t(width);
+  }
+
+  void observe(int w) {
+    const std::vector<BodyState>& states = worlds[std::size_t(w)].simulation().state().bodies;
+    Real* out = row(observations, w, kObservationWidth);
+    for (const BodyState& b : states) {
+      out[0] = b.position.x();
+      out[1] = b.position.y();
+      out[2] = b.position.z();
+      out[3] = b.orientation.w();
+      out[4] = b.orientation.x();
+      out[5] = b.orientation.y();
+      out[6] = b.orientation.z();
+      out[7] = b.velocity.x();
+      out[8] = b.velocity.y();
+      out[9] = b.velocity.z();
+      out[10] = b.angular_velocity.x();
+      out[11] = b.angular_velocity.y();
+      out[12] = b.angular_velocity.z();
+      out += kObservationWidth;
+    }
+  }
+
+  // Every action is checked before any world steps, so a bad one steps nothing.
+  void check_actions() {
+    const Scene& scene = model->scene();
+    const Real dt = scene.world.dt;
+    for (int w = 0; w < static_cast<int>(worlds.size()); ++w) {
+      const Real* f = row(forces, w, 3);
+      const Real* t = row(torques, w, 3);
+      const Real* x = row(targets, w, kTargetWidth);
+      const std::uint8_t* set = target_set.data() + std::size_t(w) * std::size_t(bodies);
+      const Real* o = row(observations, w, kObservationWidth);
+      for (int b = 0; b < bodies; ++b) {
+        const Vec3 force(f[3 * b], f[3 * b + 1], f[3 * b + 2]);
+        const Vec3 torque(t[3 * b], t[3 * b + 1], t[3 * b + 2]);
+        // NaN != 0 too, so a NaN lands here.
+        if (force != Vec3::Zero() || torque != Vec3::Zero()) {
+          if (model->is_fixed(std::size_t(b)))
+            throw Error("BatchWorld::step: " + where(w, b, scene) +
+                        " is not dynamic, but its force or torque is not zero");
+          for (int c = 0; c < 3; ++c) {
+            if (!(std::abs(force[c]) <= kMostLoad))
+              throw Error("BatchWorld::step: " + where(w, b, scene) + ": force[" +
+                          std::to_string(c) + "] = " + number_text(force[c]) +
+                          " N is not finite or beyond 1e15");
+            if (!(std::abs(torque[c]) <= kMostLoad))
+              throw Error("BatchWorld::step: " + where(w, b, scene) + ": torque[" +
+                          std::to_string(c) + "] = " + number_text(torque[c]) +
+                          " N m is not finite or beyond 1e15");
+          }
+        }
+        if (set[b] == 0)
+          continue;
+        if (!model->is_kinematic(std::size_t(b)))
+          throw Error("BatchWorld::step: " + where(w, b, scene) +
+                      " has a kinematic target but is not kinematic");
+        const Real* target = x + kTargetWidth * b;
+        Real norm = 0;
+        for (int c = 0; c < kTargetWidth; ++c) {
+          if (!(std::abs(target[c]) <= kMostCoordinate))
+            throw Error("BatchWorld::step: " + where(w, b, scene) + ": target[" +
+                        std::to_string(c) + "] = " + number_text(target[c]) +
+                        " is not finite or beyond 1e9");
+          norm += c >= 3 ? target[c] * target[c] : 0;
+        }
+        if (!(norm > 1e-18))
+          throw Error("BatchWorld::step: " + where(w, b, scene) +
+                      ": the target's orientation is a zero quaternion");
+        const Real* now = o + kObservationWidth * b;
+        const Vec3 travel(target[0] - now[0], target[1] - now[1], target[2] - now[2]);
+        if (!(travel.norm() / dt <= kMostSpeed))
+          throw Error("BatchWorld::step: " + where(w, b, scene) + ": the target is " +
+                      number_text(travel.norm()) + " m away, more than 1e6 m/s over one step");
+      }
+    }
+  }
+
+  void step_world(int w, int n) {
+    Simulation& sim = worlds[std::size_t(w)].simulation();
+    const Real* f = row(forces, w, 3);
+    const Real* t = row(torques, w, 3);
+    const Real* x = row(targets, w, kTargetWidth);
+    std::uint8_t* set = target_set.data() + std::size_t(w) * std::size_t(bodies);
+    for (int k = 0; k < n; ++k) {
+      for (int b = 0; b < bodies; ++b) {
+        const Vec3 force(f[3 * b], f[3 * b + 1], f[3 * b + 2]);
+        const Vec3 torque(t[3 * b], t[3 * b + 1], t[3 * b + 2]);
+        if (force != Vec3::Zero())
+          sim.add_force(b, force);
+        if (torque != Vec3::Zero())
+          sim.add_torque(b, torque);
+        if (set[b] != 0) {
+          const Real* target = x + kTargetWidth * b;
+          sim.set_kinematic_target(b, Vec3(target[0], target[1], target[2]),
+                                   Quat(target[3], target[4], target[5], target[6]));
+          set[b] = 0;
+        }
+      }
+      sim.step();
+    }
+    observe(w);
+    sim.contact_forces(std::span(row(contact_forces, w, 3), std::size_t(bodies) * 3),
+                       std::span(contact_counts.data() + std::size_t(w) * std::size_t(bodies),
+                                 std::size_t(bodies)));
+  }
+
+  template <class Work>
+  void for_worlds(const Work& work) {
+    const int n = static_cast<int>(worlds.size());
+    if (threads <= 1 || n == 1) {
+      for (int w = 0; w < n; ++w)
+        work(w);
+      return;
+    }
+    arena->execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
+        for (int w = r.begin(); w < r.end(); ++w)
+          work(w);
+      });
+    });
+  }
+};
+
+BatchWorld::BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads)
+    : BatchWorld(compile(std::move(scene)), num_worlds, threads) {}
+
+BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  if (!model)
+    throw Error("BatchWorld: the model is null");
+  if (num_worlds < 1 || num_worlds > kMostWorlds)
+    throw Error("BatchWorld: " + std::to_string(num_worlds) + " worlds; expected 1 to 1000000");
+  Impl& m = *impl_;
+  m.model = std::move(model);
+  m.bodies = static_cast<int>(m.model->body_count());
+  m.worlds.reserve(std::size_t(num_worlds));
+  for (int w = 0; w < num_worlds; ++w) {
+    m.worlds.emplace_back(m.model);
+    m.worlds.back().set_threads(1);
+  }
+  const std::size_t rows = std::size_t(num_worlds) * std::size_t(m.bodies);
+  m.observations.assign(rows * kObservationWidth, 0);
+  m.forces.assign(rows * 3, 0);
+  m.torques.assign(rows * 3, 0);
+  m.targets.assign(rows * kTargetWidth, 0);
+  m.target_set.assign(rows, 0);
+  m.contact_forces.assign(rows * 3, 0);
+  m.contact_counts.assign(rows, 0);
+  set_threads(threads);
+  for (int w = 0; w < num_worlds; ++w)
+    m.observe(w);
+}
+
+BatchWorld::~BatchWorld() = default;
+BatchWorld::BatchWorld(BatchWorld&&) noexcept = default;
+BatchWorld& BatchWorld::operator=(BatchWorld&&) noexcept = default;
+
+int BatchWorld::size() const {
+  return static_cast<int>(impl_->worlds.size());
+}
+
+int BatchWorld::body_count() const {
+  return impl_->bodies;
+}
+
+int BatchWorld::threads() const {
+  return impl_->threads;
+}
+
+void BatchWorld::set_threads(int threads) {
+  if (threads > 1024)
+    throw Error("BatchWorld::set_threads: " + std::to_string(threads) + " threads; at most 1024");
+  impl_->threads = thread_count(threads);
+  impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
+}
+
+std::span<const Real> BatchWorld::observations() const {
+  return impl_->observations;
+}
+
+std::span<Real> BatchWorld::forces() {
+  return impl_->forces;
+}
+
+std::span<Real> BatchWorld::torques() {
+  return impl_->torques;
+}
+
+std::span<Real> BatchWorld::kinematic_targets() {
+  return impl_->targets;
+}
+
+std::span<std::uint8_t> BatchWorld::kinematic_target_set() {
+  return impl_->target_set;
+}
+
+void BatchWorld::step(int n) {
+  if (n < 0)
+    throw Error("BatchWorld::step: the step count " + std::to_string(n) + " is negative");
+  if (n == 0)
+    return;
+  impl_->check_actions();
+  impl_->for_worlds([&](int w) { impl_->step_world(w, n); });
+}
+
+void BatchWorld::reset(std::span<const int> worlds) {
+  for (const int w : worlds) {
+    if (w < 0 || w >= size())
+      throw Error("BatchWorld::reset: world " + std::to_string(w) + " of " +
+                  std::to_string(size()));
+  }
+  for (const int w : worlds) {
+    impl_->worlds[std::size_t(w)].reset();
+    impl_->observe(w);
+    const std::size_t first = std::size_t(w) * std::size_t(impl_->bodies);
+    std::fill_n(impl_->contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * impl_->bodies,
+                Real(0));
+    std::fill_n(impl_->contact_counts.begin() + std::ptrdiff_t(first), impl_->bodies, 0);
+    std::fill_n(impl_->target_set.begin() + std::ptrdiff_t(first), impl_->bodies, 0);
+  }
+}
+
+void BatchWorld::reset() {
+  std::vector<int> all(static_cast<std::size_t>(size()));
+  for (int w = 0; w < size(); ++w)
+    all[std::size_t(w)] = w;
+  reset(all);
+}
+
+std::span<const Real> BatchWorld::contact_forces() const {
+  return impl_->contact_forces;
+}
+
+std::span<const std::int32_t> BatchWorld::contact_counts() const {
+  return impl_->contact_counts;
+}
+
+std::uint64_t BatchWorld::state_hash(int index) const {
+  return world(index).state_hash();
+}
+
+World& BatchWorld::world(int index) {
+  if (index < 0 || index >= size())
+    throw Error("BatchWorld::world: world " + std::to_string(index) + " of " +
+                std::to_string(size()));
+  return impl_->worlds[std::size_t(index)];
+}
+
+const World& BatchWorld::world(int index) const {
+  return const_cast<BatchWorld*>(this)->world(index);
+}
+
+}  // namespace tumble

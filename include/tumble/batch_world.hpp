@@ -1,0 +1,80 @@
+// Many worlds of one model stepped at once, for reinforcement learning: each world on one thread,
+// the worlds spread over the threads (environment-level parallelism), with no synchronisation
+// between them. Observations, actions and contact forces live in contiguous arrays the caller
+// reads and writes in place (the Python module hands them to numpy without copies).
+//
+// World i of a batch is bit-identical to a lone World of the same model given the same actions,
+// whatever the thread count. docs/rl.md describes the layout and the costs.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "tumble/model.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble {
+
+class BatchWorld {
+ public:
+  // Per body: position (3), orientation w x y z (4), velocity (3), angular velocity (3), world
+  // frame: the column order of trajectory.csv.
+  static constexpr int kObservationWidth = 13;
+  // A kinematic target: position (3), orientation w x y z (4).
+  static constexpr int kTargetWidth = 7;
+
+  // `num_worlds` worlds (1 to 1,000,000) of the model on `threads` threads (<= 0: the machine's
+  // cores). Throws Error for counts out of range, SceneError for a scene that fails its check.
+  BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads = 0);
+  BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads = 0);
+  ~BatchWorld();
+  BatchWorld(BatchWorld&&) noexcept;
+  BatchWorld& operator=(BatchWorld&&) noexcept;
+  BatchWorld(const BatchWorld&) = delete;
+  BatchWorld& operator=(const BatchWorld&) = delete;
+
+  int size() const;
+  int body_count() const;  // per world
+  int threads() const;
+  void set_threads(int threads);
+
+  // [world][body][kObservationWidth], as of the last step or reset.
+  std::span<const Real> observations() const;
+  // Actions, [world][body][3] in N and N m (world frame, at the centre of mass). They stay until
+  // the caller changes them (like MuJoCo's xfrc_applied), act on dynamic bodies only, and must
+  // be zero on the others.
+  std::span<Real> forces();
+  std::span<Real> torques();
+  // [world][body][kTargetWidth]: where each kinematic body should be at the end of the next
+  // step, for the bodies whose flag in kinematic_target_set() ([world][body]) is 1. A flag is
+  // cleared when its target has been reached.
+  std::span<Real> kinematic_targets();
+  std::span<std::uint8_t> kinematic_target_set();
+
+  // Steps every world n times with the current actions. Throws Error naming the world, the body
+  // and the value for an action that is not finite, a force on a body that is not dynamic, or a
+  // target on one that is not kinematic; nothing is stepped then.
+  void step(int n = 1);
+  // Back to the initial state (with an empty contact cache), for the worlds listed or all.
+  // Throws Error for an index out of range.
+  void reset(std::span<const int> worlds);
+  void reset();
+
+  // [world][body][3], N: the contact force on each body over the last step (the impulses of its
+  // contacts divided by dt), and [world][body] the number of bodies it touched.
+  std::span<const Real> contact_forces() const;
+  std::span<const std::int32_t> contact_counts() const;
+
+  std::uint64_t state_hash(int world) const;
+  // One world of the batch, for anything the arrays do not cover (Error for a bad index).
+  World& world(int index);
+  const World& world(int index) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tumble

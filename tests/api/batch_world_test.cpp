@@ -1,0 +1,167 @@
+// BatchWorld: world i is bit-identical to a lone World given the same actions, on any thread
+// count; a reset world replays exactly; the arrays hold what the worlds hold.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "tests/api/api_scenes.hpp"
+
+namespace tumble {
+namespace {
+
+using testing::box_at;
+using testing::ground;
+using testing::scene_of;
+
+std::shared_ptr<Scene> pile() {
+  std::vector<BodyDesc> bodies{ground()};
+  for (int k = 0; k < 6; ++k) {
+    std::string name = "b";
+    name += std::to_string(k);
+    bodies.push_back(box_at(name, Vec3(0.3 * (k % 2), 0.2 * k, 1 + 1.1 * k), 0.4));
+  }
+  return scene_of(bodies);
+}
+
+// The force on body b of world w at step s: a fixed, per-world pseudo-random push.
+Vec3 push(int w, int b, int s) {
+  std::mt19937 random(std::uint32_t(1000003 * w + 1009 * b + s));
+  std::uniform_real_distribution<Real> u(-40, 40);
+  return Vec3(u(random), u(random), u(random));
+}
+
+std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps) {
+  BatchWorld batch(pile(), worlds, threads);
+  const int bodies = batch.body_count();
+  for (int s = 0; s < steps; ++s) {
+    std::span<Real> f = batch.forces();
+    for (int w = 0; w < worlds; ++w)
+      for (int b = 1; b < bodies; ++b)
+        for (int c = 0; c < 3; ++c)
+          f[std::size_t((w * bodies + b) * 3 + c)] = push(w, b, s)[c];
+    batch.step();
+  }
+  std::vector<std::uint64_t> hashes;
+  for (int w = 0; w < worlds; ++w)
+    hashes.push_back(batch.state_hash(w));
+  return hashes;
+}
+
+TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
+  const int worlds = 7, steps = 40;
+  const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps);
+  EXPECT_EQ(one, batch_hashes(2, worlds, steps));
+  EXPECT_EQ(one, batch_hashes(4, worlds, steps));
+  for (int w = 0; w < worlds; w += 3) {
+    World lone(pile());
+    for (int s = 0; s < steps; ++s) {
+      for (const BodyId id : lone.bodies())
+        if (id.index > 0)
+          lone.add_force(id, push(w, id.index, s));
+      lone.step();
+    }
+    EXPECT_EQ(lone.state_hash(), one[std::size_t(w)]) << "world " << w;
+  }
+  // The worlds were pushed differently, so they differ.
+  EXPECT_NE(one[0], one[1]);
+}
+
+TEST(BatchWorld, AResetWorldReplaysExactly) {
+  BatchWorld batch(pile(), 3, 2);
+  std::span<Real> f = batch.forces();
+  f[3 * (0 * batch.body_count() + 2)] = 25;  // world 0, body 2, along x
+  batch.step(30);
+  const std::uint64_t first = batch.state_hash(0);
+  const std::uint64_t untouched = batch.state_hash(2);
+  const int again[] = {0};
+  batch.reset(again);
+  EXPECT_EQ(batch.world(0).step_count(), 0);
+  EXPECT_EQ(batch.state_hash(0), World(pile()).state_hash());
+  batch.step(30);
+  EXPECT_EQ(batch.state_hash(0), first);
+  EXPECT_NE(batch.state_hash(2), untouched) << "world 2 kept stepping";
+}
+
+TEST(BatchWorld, ObservationsAndContactForcesMatchTheWorlds) {
+  auto scene = scene_of({ground(), box_at("a", Vec3(0, 0, 1.0)), box_at("b", Vec3(3, 0, 1.0))});
+  BatchWorld batch(scene, 2, 2);
+  batch.step(90);
+  const int bodies = batch.body_count();
+  const std::span<const Real> obs = batch.observations();
+  for (int w = 0; w < 2; ++w) {
+    for (int b = 0; b < bodies; ++b) {
+      const BodyState s = batch.world(w).body_state(BodyId{b, 0});
+      const Real* o = obs.data() + (w * bodies + b) * BatchWorld::kObservationWidth;
+      EXPECT_EQ(o[0], s.position.x());
+      EXPECT_EQ(o[2], s.position.z());
+      EXPECT_EQ(o[3], s.orientation.w());
+      EXPECT_EQ(o[6], s.orientation.z());
+      EXPECT_EQ(o[9], s.velocity.z());
+      EXPECT_EQ(o[12], s.angular_velocity.z());
+    }
+    // Each resting box is held up by its weight; the ground carries both.
+    const Real weight = scene->bodies[1].mass * 9.81;
+    const std::span<const Real> cf = batch.contact_forces();
+    for (int b = 1; b < bodies; ++b) {
+      EXPECT_NEAR(cf[std::size_t((w * bodies + b) * 3 + 2)] / weight, 1.0, 1e-6);
+      EXPECT_EQ(batch.contact_counts()[std::size_t(w * bodies + b)], 1);
+    }
+    EXPECT_NEAR(cf[std::size_t((w * bodies) * 3 + 2)] / weight, -2.0, 1e-6);
+    EXPECT_EQ(batch.contact_counts()[std::size_t(w * bodies)], 2);
+  }
+}
+
+TEST(BatchWorld, KinematicTargetsAreReached) {
+  BodyDesc paddle = kinematic_body("paddle", Shape::box(Vec3(0.1, 0.5, 0.3)));
+  paddle.position = Vec3(0, 0, 1);
+  BatchWorld batch(scene_of({ground(), paddle}), 3, 2);
+  const int bodies = batch.body_count();
+  for (int w = 0; w < 3; ++w) {
+    Real* t = batch.kinematic_targets().data() + (w * bodies + 1) * BatchWorld::kTargetWidth;
+    t[0] = 0.1 * (w + 1);
+    t[2] = 1;
+    t[3] = 1;
+    batch.kinematic_target_set()[std::size_t(w * bodies + 1)] = 1;
+  }
+  batch.step();
+  for (int w = 0; w < 3; ++w) {
+    EXPECT_EQ(batch.observations()[std::size_t((w * bodies + 1) * 13)], 0.1 * (w + 1));
+    EXPECT_EQ(batch.kinematic_target_set()[std::size_t(w * bodies + 1)], 0);
+  }
+}
+
+TEST(BatchWorld, BadActionsStepNothingAndNameWorldAndBody) {
+  BatchWorld batch(pile(), 4, 2);
+  const int bodies = batch.body_count();
+  const auto message = [&] {
+    try {
+      batch.step();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  batch.forces()[std::size_t((2 * bodies + 3) * 3 + 1)] = std::numeric_limits<Real>::quiet_NaN();
+  std::string m = message();
+  EXPECT_NE(m.find("world 2, body 3 'b2'"), std::string::npos) << m;
+  EXPECT_NE(m.find("nan"), std::string::npos) << m;
+  EXPECT_EQ(batch.world(0).step_count(), 0) << "a world stepped";
+  batch.forces()[std::size_t((2 * bodies + 3) * 3 + 1)] = 0;
+  batch.torques()[std::size_t((1 * bodies + 0) * 3)] = 5;  // the ground is static
+  m = message();
+  EXPECT_NE(m.find("world 1, body 0 'ground'"), std::string::npos) << m;
+  batch.torques()[std::size_t((1 * bodies + 0) * 3)] = 0;
+  batch.kinematic_target_set()[1] = 1;
+  EXPECT_NE(message().find("not kinematic"), std::string::npos);
+  batch.kinematic_target_set()[1] = 0;
+  const int out_of_range[] = {4};
+  EXPECT_THROW(batch.reset(out_of_range), Error);
+  EXPECT_THROW(batch.world(-1), Error);
+  EXPECT_THROW(BatchWorld(pile(), 0), Error);
+  batch.step();
+  EXPECT_EQ(batch.world(3).step_count(), 1);
+}
+
+}  // namespace
+}  // namespace tumble
