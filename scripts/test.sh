@@ -6,9 +6,13 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup-debian.sh
 jobs=$(nproc)
+# The Debian interpreter, whose numpy and pytest the setup installed (a python3 earlier on PATH,
+# such as pyenv's, may have neither).
+python=()
+if [ -x /usr/bin/python3 ]; then python=(-DPython3_EXECUTABLE=/usr/bin/python3); fi
 
 echo "== release build and tests =="
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release "${python[@]}"
 cmake --build build/release -j "$jobs"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
@@ -18,7 +22,7 @@ echo "== sanitizer build (address, undefined) and tests =="
 # largest test file) for the same checks; stack traces still name file and line.
 cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DTUMBLE_SANITIZE=ON \
-  -DTUMBLE_BUILD_BENCHMARKS=OFF
+  -DTUMBLE_BUILD_BENCHMARKS=OFF "${python[@]}"
 cmake --build build/sanitize -j "$jobs"
 # The broad-phase property tests run a quarter of their random steps here (see
 # tests/broad_phase/broad_phase_property.hpp): every path is still exercised under the sanitizers.

@@ -24,6 +24,7 @@ RANKS = {
     "renders": 9,
     "library": 10,
     "apps": 10,
+    "python": 10,
 }
 # Public headers: the vocabulary every module shares, then the facades of higher modules.
 PUBLIC_RANKS = {

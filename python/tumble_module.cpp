@@ -1,0 +1,333 @@
+// The Python module `tumble` (pybind11): the C++ API's World and BatchWorld, with the batch's
+// arrays handed to numpy as views, without copies. docs/python.md describes it.
+//
+// Errors: tumble::SceneError becomes tumble.SceneError (a ValueError), tumble::Error becomes
+// tumble.Error (a RuntimeError); an array of the wrong shape or dtype, or with a NaN, is a
+// ValueError naming what was expected; an index out of range is an IndexError.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tumble/tumble.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+using tumble::BatchWorld;
+using tumble::BodyId;
+using tumble::Real;
+using tumble::Vec3;
+
+Vec3 vec3(const std::vector<Real>& v, const char* what) {
+  if (v.size() != 3)
+    throw py::value_error(std::string(what) + ": expected 3 numbers, got " +
+                          std::to_string(v.size()));
+  return Vec3(v[0], v[1], v[2]);
+}
+
+tumble::Quat quat(const std::vector<Real>& q) {
+  if (q.size() != 4)
+    throw py::value_error("orientation: expected 4 numbers (w, x, y, z), got " +
+                          std::to_string(q.size()));
+  return tumble::Quat(q[0], q[1], q[2], q[3]);
+}
+
+std::shared_ptr<const tumble::Scene> scene_from(const py::object& scene) {
+  if (py::isinstance<py::str>(scene))
+    return tumble::load_scene(scene.cast<std::string>());
+  try {
+    return scene.cast<std::shared_ptr<const tumble::Scene>>();
+  } catch (const py::cast_error&) {
+    throw py::type_error("scene: expected a path (str) or a tumble.Scene");
+  }
+}
+
+// A numpy view of `data` (shape `shape`), kept alive by `owner`.
+template <class T>
+py::array_t<T> view(T* data, std::vector<py::ssize_t> shape, py::handle owner, bool writable) {
+  py::array_t<T> a(shape, data, owner);
+  if (!writable)
+    a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+// Copies `values` into `out` after checking its shape against [worlds][bodies][width] and that
+// every number is finite.
+void copy_checked(const py::array& values, std::span<Real> out, int worlds, int bodies, int width,
+                  const char* what) {
+  if (!py::isinstance<py::array_t<double>>(values) || values.dtype().kind() != 'f' ||
+      values.itemsize() != sizeof(double))
+    throw py::value_error(std::string(what) + ": expected a float64 array of shape (" +
+                          std::to_string(worlds) + ", " + std::to_string(bodies) + ", " +
+                          std::to_string(width) + "), got dtype " +
+                          py::str(values.dtype()).cast<std::string>());
+  const bool shape_ok = values.ndim() == 3 && values.shape(0) == worlds &&
+                        values.shape(1) == bodies && values.shape(2) == width;
+  if (!shape_ok) {
+    std::string got = "(";
+    for (py::ssize_t d = 0; d < values.ndim(); ++d)
+      got += (d > 0 ? ", " : "") + std::to_string(values.shape(d));
+    got += values.ndim() == 1 ? ",)" : ")";
+    throw py::value_error(std::string(what) + ": expected shape (" + std::to_string(worlds) + ", " +
+                          std::to_string(bodies) + ", " + std::to_string(width) + "), got " + got);
+  }
+  const auto typed = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+  const double* in = typed.data();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!std::isfinite(in[i])) {
+      const std::size_t per_world = std::size_t(bodies) * std::size_t(width);
+      throw py::value_error(std::string(what) + "[" + std::to_string(i / per_world) + ", " +
+                            std::to_string(i % per_world / std::size_t(width)) + ", " +
+                            std::to_string(i % std::size_t(width)) + "] is " +
+                            std::to_string(in[i]) + ", not a finite number");
+    }
+  }
+  std::copy(in, in + out.size(), out.begin());
+}
+
+int checked_world(const BatchWorld& batch, int index) {
+  if (index < 0 || index >= batch.size())
+    throw py::index_error("world " + std::to_string(index) + " out of range for a batch of " +
+                          std::to_string(batch.size()));
+  return index;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(tumble, m) {
+  m.doc() = "tumble: rigid-body physics centred on collision detection (docs/python.md)";
+  m.attr("__version__") = tumble::kVersion;
+
+  static py::exception<tumble::Error> error(m, "Error", PyExc_RuntimeError);
+  static py::exception<tumble::SceneError> scene_error(m, "SceneError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p)
+        std::rethrow_exception(p);
+    } catch (const tumble::SceneError& e) {
+      scene_error(e.what());
+    } catch (const tumble::Error& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<tumble::Scene, std::shared_ptr<tumble::Scene>>(m, "Scene")
+      .def_property_readonly("body_count", [](const tumble::Scene& s) { return s.bodies.size(); })
+      .def_property_readonly("dt", [](const tumble::Scene& s) { return s.world.dt; })
+      .def_property_readonly("body_names", [](const tumble::Scene& s) {
+        std::vector<std::string> names;
+        for (const tumble::BodyDesc& b : s.bodies)
+          names.push_back(b.name);
+        return names;
+      });
+  m.def(
+      "load_scene",
+      [](const std::string& path) {
+        return std::const_pointer_cast<tumble::Scene>(tumble::load_scene(path));
+      },
+      py::arg("path"), "Loads and checks a YAML scene; raises tumble.SceneError.");
+  m.def(
+      "load_scene_text",
+      [](const std::string& yaml, const std::string& name) {
+        return std::const_pointer_cast<tumble::Scene>(tumble::load_scene_text(yaml, name));
+      },
+      py::arg("yaml"), py::arg("name") = "<text>");
+
+  py::class_<BodyId>(m, "BodyId")
+      .def_readonly("index", &BodyId::index)
+      .def_readonly("generation", &BodyId::generation)
+      .def("__eq__", [](const BodyId& a, const BodyId& b) { return a == b; })
+      .def("__repr__", [](const BodyId& b) {
+        return "BodyId(" + std::to_string(b.index) + ", " + std::to_string(b.generation) + ")";
+      });
+
+  py::class_<tumble::World>(m, "World")
+      .def(py::init([](const py::object& scene) {
+             return std::make_unique<tumble::World>(scene_from(scene));
+           }),
+           py::arg("scene"))
+      .def("body", &tumble::World::body, py::arg("name"))
+      .def("step", py::overload_cast<int>(&tumble::World::step), py::arg("n") = 1)
+      .def("reset", &tumble::World::reset)
+      .def_property_readonly("time", &tumble::World::time)
+      .def_property_readonly("step_count", &tumble::World::step_count)
+      .def("state_hash", &tumble::World::state_hash)
+      .def(
+          "add_force",
+          [](tumble::World& w, BodyId id, const std::vector<Real>& f) {
+            w.add_force(id, vec3(f, "force"));
+          },
+          py::arg("body"), py::arg("force"))
+      .def(
+          "add_torque",
+          [](tumble::World& w, BodyId id, const std::vector<Real>& t) {
+            w.add_torque(id, vec3(t, "torque"));
+          },
+          py::arg("body"), py::arg("torque"))
+      .def(
+          "apply_impulse",
+          [](tumble::World& w, BodyId id, const std::vector<Real>& j, const std::vector<Real>& p) {
+            w.apply_impulse(id, vec3(j, "impulse"), vec3(p, "point"));
+          },
+          py::arg("body"), py::arg("impulse"), py::arg("point"))
+      .def(
+          "set_velocity",
+          [](tumble::World& w, BodyId id, const std::vector<Real>& v, const std::vector<Real>& a) {
+            w.set_velocity(id, vec3(v, "velocity"), vec3(a, "angular_velocity"));
+          },
+          py::arg("body"), py::arg("velocity"), py::arg("angular_velocity"))
+      .def(
+          "set_kinematic_target",
+          [](tumble::World& w, BodyId id, const std::vector<Real>& p, const std::vector<Real>& q) {
+            w.set_kinematic_target(id, vec3(p, "position"), quat(q));
+          },
+          py::arg("body"), py::arg("position"), py::arg("orientation"))
+      .def(
+          "body_state",
+          [](const tumble::World& w, BodyId id) {
+            const tumble::BodyState s = w.body_state(id);
+            py::array_t<double> out(13);
+            double* o = out.mutable_data();
+            const double values[13] = {
+                s.position.x(),        s.position.y(),         s.position.z(),
+                s.orientation.w(),     s.orientation.x(),      s.orientation.y(),
+                s.orientation.z(),     s.velocity.x(),         s.velocity.y(),
+                s.velocity.z(),        s.angular_velocity.x(), s.angular_velocity.y(),
+                s.angular_velocity.z()};
+            std::copy(values, values + 13, o);
+            return out;
+          },
+          py::arg("body"), "px py pz qw qx qy qz vx vy vz wx wy wz, as a float64 array")
+      .def("contact_reports",
+           [](const tumble::World& w) {
+             py::list reports;
+             for (const tumble::ContactReport& r : w.contact_reports()) {
+               py::dict d;
+               d["body_a"] = r.body_a;
+               d["body_b"] = r.body_b;
+               d["normal"] = std::vector<Real>{r.normal.x(), r.normal.y(), r.normal.z()};
+               py::list points;
+               for (int k = 0; k < r.point_count; ++k) {
+                 const tumble::ContactPointReport& p = r.points[std::size_t(k)];
+                 py::dict point;
+                 point["position"] =
+                     std::vector<Real>{p.position.x(), p.position.y(), p.position.z()};
+                 point["depth"] = p.depth;
+                 point["normal_impulse"] = p.normal_impulse;
+                 point["friction_impulse"] = std::vector<Real>{
+                     p.friction_impulse.x(), p.friction_impulse.y(), p.friction_impulse.z()};
+                 points.append(point);
+               }
+               d["points"] = points;
+               reports.append(d);
+             }
+             return reports;
+           })
+      .def(
+          "ray_cast",
+          [](const tumble::World& w, const std::vector<Real>& origin,
+             const std::vector<Real>& direction, Real max_distance) -> py::object {
+            const std::optional<tumble::RayHit> hit =
+                w.ray_cast(vec3(origin, "origin"), vec3(direction, "direction"), max_distance);
+            if (!hit)
+              return py::none();
+            py::dict d;
+            d["body"] = hit->body;
+            d["distance"] = hit->distance;
+            d["point"] = std::vector<Real>{hit->point.x(), hit->point.y(), hit->point.z()};
+            d["normal"] = std::vector<Real>{hit->normal.x(), hit->normal.y(), hit->normal.z()};
+            return d;
+          },
+          py::arg("origin"), py::arg("direction"), py::arg("max_distance"));
+
+  py::class_<BatchWorld>(m, "BatchWorld")
+      .def(py::init([](const py::object& scene, int num_worlds, int threads) {
+             return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads);
+           }),
+           py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0)
+      .def_property_readonly("num_worlds", &BatchWorld::size)
+      .def_property_readonly("body_count", &BatchWorld::body_count)
+      .def_property_readonly("threads", &BatchWorld::threads)
+      .def(
+          "observe",
+          [](py::object self) {
+            BatchWorld& b = self.cast<BatchWorld&>();
+            return view(const_cast<Real*>(b.observations().data()),
+                        {b.size(), b.body_count(), BatchWorld::kObservationWidth}, self, false);
+          },
+          "A read-only float64 view [worlds, bodies, 13] of px py pz qw qx qy qz vx vy vz wx wy "
+          "wz, updated in place by step() and reset().")
+      .def(
+          "set_forces",
+          [](BatchWorld& b, const py::array& f) {
+            copy_checked(f, b.forces(), b.size(), b.body_count(), 3, "forces");
+          },
+          py::arg("forces"), "Forces [worlds, bodies, 3] in N; they stay until set again.")
+      .def(
+          "set_torques",
+          [](BatchWorld& b, const py::array& t) {
+            copy_checked(t, b.torques(), b.size(), b.body_count(), 3, "torques");
+          },
+          py::arg("torques"))
+      .def(
+          "set_kinematic_targets",
+          [](BatchWorld& b, const py::array& targets) {
+            copy_checked(targets, b.kinematic_targets(), b.size(), b.body_count(),
+                         BatchWorld::kTargetWidth, "targets");
+            // Every kinematic body gets its target; the others' rows are ignored.
+            const tumble::World& first = b.world(0);
+            const std::span<std::uint8_t> set = b.kinematic_target_set();
+            for (int w = 0; w < b.size(); ++w)
+              for (int i = 0; i < b.body_count(); ++i)
+                set[std::size_t(w * b.body_count() + i)] =
+                    first.scene().bodies[std::size_t(i)].kinematic ? 1 : 0;
+          },
+          py::arg("targets"),
+          "Targets [worlds, bodies, 7] (px py pz qw qx qy qz) for the kinematic bodies, reached "
+          "at the end of the next step; rows of other bodies are ignored.")
+      .def(
+          "step",
+          [](BatchWorld& b, int n) {
+            py::gil_scoped_release release;
+            b.step(n);
+          },
+          py::arg("n") = 1)
+      .def(
+          "reset",
+          [](BatchWorld& b, const py::object& ids) {
+            if (ids.is_none()) {
+              b.reset();
+              return;
+            }
+            std::vector<int> list;
+            for (const py::handle h : ids)
+              list.push_back(checked_world(b, h.cast<int>()));
+            b.reset(list);
+          },
+          py::arg("ids") = py::none(), "Resets the worlds listed (all when None).")
+      .def(
+          "contact_forces",
+          [](py::object self) {
+            BatchWorld& b = self.cast<BatchWorld&>();
+            return view(const_cast<Real*>(b.contact_forces().data()), {b.size(), b.body_count(), 3},
+                        self, false);
+          },
+          "A read-only float64 view [worlds, bodies, 3]: each body's contact force over the last "
+          "step, N.")
+      .def("contact_counts",
+           [](py::object self) {
+             BatchWorld& b = self.cast<BatchWorld&>();
+             return view(const_cast<std::int32_t*>(b.contact_counts().data()),
+                         {b.size(), b.body_count()}, self, false);
+           })
+      .def(
+          "state_hash",
+          [](const BatchWorld& b, int i) { return b.state_hash(checked_world(b, i)); },
+          py::arg("world"));
+}
