@@ -96,7 +96,7 @@ Simulation::Simulation(std::shared_ptr<const Model> model)
   group_fill_.reserve(kMostGroups + 1);
   broad_phase_type_ = choose_broad_phase(model->scene().world.broadphase, model->scene());
   adopt(std::move(model));
-  set_state(initial_state(*scene_));
+  set_state(initial_state_);
 }
 
 // Takes a (new) model: its views, the per-body scratch, the penalty substeps and continuous
@@ -122,6 +122,7 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
       kinematic_bodies_.push_back(static_cast<std::int32_t>(i));
   }
   kinematic_start_.resize(kinematic_bodies_.size());
+  initial_state_ = initial_state(*scene_);
   choose_penalty_substeps();
   continuous_.reset();
   if (auto ccd = std::make_unique<ContinuousCollision>(*scene_); ccd->enabled())
@@ -154,6 +155,16 @@ void Simulation::set_state(const State& state) {
   if (state.bodies.size() != scene_->bodies.size())
     throw Error("Simulation::set_state: the state has " + std::to_string(state.bodies.size()) +
                 " bodies, the world " + std::to_string(scene_->bodies.size()));
+  // The broad phase keeps its structure when only moving bodies change pose (a reset, a replay):
+  // their boxes are updated in place, which is what makes a reset cheap. A static body that
+  // moved, or a first state, rebuilds it.
+  bool keep_broad_phase = broad_phase_ != nullptr && state_.bodies.size() == state.bodies.size();
+  for (std::size_t i = 0; keep_broad_phase && i < state.bodies.size(); ++i) {
+    if (scene_->bodies[i].is_static &&
+        (state.bodies[i].position != state_.bodies[i].position ||
+         state.bodies[i].orientation.coeffs() != state_.bodies[i].orientation.coeffs()))
+      keep_broad_phase = false;
+  }
   state_ = state;
   // What the last step found and what was asked of the next one belong to the state left behind.
   contacts_.clear();
@@ -171,7 +182,17 @@ void Simulation::set_state(const State& state) {
   state_.asleep.resize(state_.bodies.size(), 0);
   state_.substep_level.resize(state_.bodies.size(), 0);
   state_.substep_hold.resize(state_.bodies.size(), 0);
-  rebuild_broad_phase();
+  if (!keep_broad_phase) {
+    rebuild_broad_phase();
+    return;
+  }
+  for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
+    if (scene_->bodies[i].is_static)
+      continue;
+    broad_phase_->update(static_cast<std::int32_t>(i),
+                         world_aabb(scene_->bodies[i].shape, pose_of(state_.bodies[i])));
+  }
+  bounds_stale_ = false;
 }
 
 void Simulation::teleport(int body, const Vec3& position, const Quat& orientation) {

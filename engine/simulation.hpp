@@ -48,7 +48,7 @@ class Simulation {
 
   // Replaces the state (reset, restore, replay). The broad phase is rebuilt from the new poses.
   void set_state(const State& state);
-  void reset() { set_state(initial_state(*scene_)); }
+  void reset() { set_state(initial_state_); }
 
   // Moves one body to a new pose at once, keeping its velocities (a teleport, not motion). The
   // warm-start cache of every pair the body is in is dropped: last step's impulses belong to
@@ -160,6 +160,7 @@ class Simulation {
 
   std::shared_ptr<const Model> model_;
   const Scene* scene_ = nullptr;  // model_'s scene
+  State initial_state_;           // initial_state(*scene_), kept for reset()
   State state_;
   std::unique_ptr<ParallelRunner> runner_;
 
