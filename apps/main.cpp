@@ -67,6 +67,13 @@ int main(int argc, char** argv) {
                    "Write every k-th step to the trajectory (the first and last always)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1000000000}));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing on success");
+  run_cmd
+      ->add_option("--format", run.format,
+                   "Trajectory file: csv (trajectory.csv), npy (trajectory.npy: float64 "
+                   "[records, bodies, 13]) or both")
+      ->check(CLI::IsMember({"csv", "npy", "both"}));
+  run_cmd->add_flag("--contacts", run.contacts,
+                    "Also write contacts.csv: every contact point of every recorded step");
 
   std::filesystem::path validate_scene;
   CLI::App* validate_cmd = app.add_subcommand("validate", "Check a scene file and report errors");

@@ -9,9 +9,12 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "apps/atomic_file.hpp"
+#include "apps/contacts_writer.hpp"
+#include "apps/npy_trajectory_writer.hpp"
 #include "apps/run_summary.hpp"
 #include "apps/trajectory_writer.hpp"
 #include "engine/simulation.hpp"
@@ -86,23 +89,45 @@ int run_command(const RunOptions& options) {
               << ec.message() << ")\n";
     return 1;
   }
-  const std::filesystem::path trajectory_path = dir / "trajectory.csv";
+  const bool csv = options.format == "csv" || options.format == "both";
+  const bool npy = options.format == "npy" || options.format == "both";
+  const std::filesystem::path trajectory_path = dir / (csv ? "trajectory.csv" : "trajectory.npy");
+  const std::filesystem::path npy_path = dir / "trajectory.npy";
+  const std::filesystem::path contacts_path = dir / "contacts.csv";
   const std::filesystem::path summary_path = dir / "summary.json";
 
   // Handlers first, so that an interrupt at any point from here on is an orderly stop.
   g_interrupted = 0;
   auto previous_int = std::signal(SIGINT, on_interrupt);
   auto previous_term = std::signal(SIGTERM, on_interrupt);
-  Simulation world(scene);
+  World api_world(scene);
+  Simulation& world = api_world.simulation();
   RunSummary summary(*scene, world, options.scene, steps);
-  TrajectoryWriter trajectory(trajectory_path, *scene);
+  std::optional<TrajectoryWriter> trajectory;
+  std::optional<NpyTrajectoryWriter> trajectory_npy;
+  std::optional<ContactsWriter> contacts;
+  if (csv)
+    trajectory.emplace(dir / "trajectory.csv", *scene);
+  if (npy)
+    trajectory_npy.emplace(npy_path, scene->bodies.size());
+  if (options.contacts)
+    contacts.emplace(contacts_path);
+  const auto record = [&] {
+    if (trajectory)
+      trajectory->record(world.state());
+    if (trajectory_npy)
+      trajectory_npy->record(world.state());
+  };
   const auto start = std::chrono::steady_clock::now();
-  trajectory.record(world.state());
+  record();
   for (std::int64_t k = 1; k <= steps && !g_interrupted; ++k) {
     world.step();
     summary.add_step(world.last_step_statistics());
-    if (k % options.record_every == 0 || k == steps)
-      trajectory.record(world.state());
+    if (k % options.record_every == 0 || k == steps) {
+      record();
+      if (contacts)
+        contacts->record(api_world);
+    }
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -115,13 +140,20 @@ int run_command(const RunOptions& options) {
               << " steps; no output written\n";
     return 130;
   }
-  trajectory.finish();
+  if (trajectory)
+    trajectory->finish();
+  if (trajectory_npy)
+    trajectory_npy->finish();
+  if (contacts)
+    contacts->finish();
   summary.finish(world, wall, trajectory_path);
   write_file_atomically(summary_path, summary.to_json() + "\n");
   if (!options.quiet) {
     std::cout << "tumble run: " << scene->bodies.size() << " bodies, " << steps << " steps ("
               << world.state().time << " s simulated) in " << wall << " s\n"
-              << "  trajectory: " << trajectory_path.string() << "\n"
+              << "  trajectory: " << trajectory_path.string()
+              << (csv && npy ? " and " + npy_path.string() : std::string()) << "\n"
+              << (options.contacts ? "  contacts:   " + contacts_path.string() + "\n" : "")
               << "  summary:    " << summary_path.string() << "\n"
               << "  final state hash: " << summary.final_hash_hex() << "\n";
   }

@@ -1,9 +1,11 @@
-// `tumble run`: load a scene, step it, write the trajectory CSV and the JSON summary.
+// `tumble run`: load a scene, step it, write the trajectory (CSV and/or .npy), the contacts CSV if
+// asked, and the JSON summary.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 
 namespace tumble::app {
 
@@ -16,6 +18,9 @@ struct RunOptions {
   std::optional<double> dt;        // s
   std::int64_t record_every = 1;   // write every k-th step (and the first and last)
   bool quiet = false;
+  // Trajectory files: "csv" (trajectory.csv), "npy" (trajectory.npy) or "both".
+  std::string format = "csv";
+  bool contacts = false;  // also contacts.csv
 };
 
 // Returns the process exit code: 0 done, 1 user error (message on stderr), 130 interrupted.

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <string>
 
-#include "tumble/scene.hpp"
-#include "engine/step_statistics.hpp"
 #include "engine/simulation.hpp"
+#include "engine/step_statistics.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::app {
 
@@ -16,7 +16,8 @@ class RunSummary {
   RunSummary(const Scene& scene, const Simulation& world, const std::filesystem::path& scene_path,
              std::int64_t steps);
   void add_step(const StepStatistics& step);
-  void finish(const Simulation& world, double wall_seconds, const std::filesystem::path& trajectory);
+  void finish(const Simulation& world, double wall_seconds,
+              const std::filesystem::path& trajectory);
   std::string to_json() const;
   std::string final_hash_hex() const;
 

@@ -1,26 +1,9 @@
 #include "apps/trajectory_writer.hpp"
 
+#include "apps/csv_field.hpp"
 #include "apps/number_format.hpp"
 
 namespace tumble::app {
-namespace {
-
-// RFC 4180 quoting, needed only for names holding a comma, quote or line break.
-void write_csv_field(std::ostream& out, const std::string& field) {
-  if (field.find_first_of(",\"\r\n") == std::string::npos) {
-    out << field;
-    return;
-  }
-  out << '"';
-  for (char c : field) {
-    if (c == '"')
-      out << '"';
-    out << c;
-  }
-  out << '"';
-}
-
-}  // namespace
 
 TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, const Scene& scene)
     : file_(path), scene_(scene) {

@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "apps/atomic_file.hpp"
-#include "tumble/scene.hpp"
 #include "engine/state.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::app {
 

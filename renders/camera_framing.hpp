@@ -2,8 +2,8 @@
 // automatically around the bounded bodies.
 #pragma once
 
-#include "tumble/scene.hpp"
 #include "engine/state.hpp"
+#include "tumble/scene.hpp"
 
 namespace tumble::render {
 

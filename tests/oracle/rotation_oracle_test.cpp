@@ -68,15 +68,16 @@ RotationErrors measure(Real dt) {
   const int fine = 40;  // RK4 steps per engine step
   const Real h = dt / fine;
   RotationErrors e;
-  test::lockstep(scene, steps, [&](std::int64_t, const Simulation& world, const app::BulletWorld& bw) {
-    for (int k = 0; k < fine; ++k)
-      truth = rk4(truth, I, I_inv, h);
-    const Quat qt = world.state().bodies[0].orientation;
-    const Quat qb = bw.body(0).orientation;
-    e.difference = std::max(e.difference, app::orientation_error(qt, qb));
-    e.tumble = std::max(e.tumble, app::orientation_error(qt, truth.q));
-    e.bullet = std::max(e.bullet, app::orientation_error(qb, truth.q));
-  });
+  test::lockstep(scene, steps,
+                 [&](std::int64_t, const Simulation& world, const app::BulletWorld& bw) {
+                   for (int k = 0; k < fine; ++k)
+                     truth = rk4(truth, I, I_inv, h);
+                   const Quat qt = world.state().bodies[0].orientation;
+                   const Quat qb = bw.body(0).orientation;
+                   e.difference = std::max(e.difference, app::orientation_error(qt, qb));
+                   e.tumble = std::max(e.tumble, app::orientation_error(qt, truth.q));
+                   e.bullet = std::max(e.bullet, app::orientation_error(qb, truth.q));
+                 });
   return e;
 }
 
