@@ -59,8 +59,10 @@ py::array_t<T> view(T* data, std::vector<py::ssize_t> shape, py::handle owner, b
 
 // Copies `values` into `out` after checking its shape against [worlds][bodies][width] and that
 // every number is finite.
-void copy_checked(const py::array& values, std::span<Real> out, int worlds, int bodies, int width,
+void copy_checked(const py::object& given, std::span<Real> out, int worlds, int bodies, int width,
                   const char* what) {
+  // Lists and other array-likes are taken through numpy, as numpy itself would.
+  const py::array values = py::module_::import("numpy").attr("asarray")(given);
   if (!py::isinstance<py::array_t<double>>(values) || values.dtype().kind() != 'f' ||
       values.itemsize() != sizeof(double))
     throw py::value_error(std::string(what) + ": expected a float64 array of shape (" +
@@ -265,19 +267,19 @@ PYBIND11_MODULE(tumble, m) {
           "wz, updated in place by step() and reset().")
       .def(
           "set_forces",
-          [](BatchWorld& b, const py::array& f) {
+          [](BatchWorld& b, const py::object& f) {
             copy_checked(f, b.forces(), b.size(), b.body_count(), 3, "forces");
           },
           py::arg("forces"), "Forces [worlds, bodies, 3] in N; they stay until set again.")
       .def(
           "set_torques",
-          [](BatchWorld& b, const py::array& t) {
+          [](BatchWorld& b, const py::object& t) {
             copy_checked(t, b.torques(), b.size(), b.body_count(), 3, "torques");
           },
           py::arg("torques"))
       .def(
           "set_kinematic_targets",
-          [](BatchWorld& b, const py::array& targets) {
+          [](BatchWorld& b, const py::object& targets) {
             copy_checked(targets, b.kinematic_targets(), b.size(), b.body_count(),
                          BatchWorld::kTargetWidth, "targets");
             // Every kinematic body gets its target; the others' rows are ignored.
@@ -306,8 +308,12 @@ PYBIND11_MODULE(tumble, m) {
               return;
             }
             std::vector<int> list;
-            for (const py::handle h : ids)
+            for (const py::handle h : ids) {
+              if (!py::isinstance<py::int_>(h))
+                throw py::type_error("reset: world ids must be integers, got " +
+                                     py::repr(h).cast<std::string>());
               list.push_back(checked_world(b, h.cast<int>()));
+            }
             b.reset(list);
           },
           py::arg("ids") = py::none(), "Resets the worlds listed (all when None).")

@@ -93,6 +93,11 @@ def test_bad_calls_raise_python_errors(pile_scene):
     with pytest.raises(tumble.Error, match="world 0, body 0 'ground'"):
         batch.step()
     batch.set_forces(np.zeros((2, 5, 3)))
+    with pytest.raises(ValueError, match="float64"):
+        batch.set_forces([[[1, 2, 3]] * 5] * 2)  # a nested list of ints: int64
+    batch.set_forces([[[0.0, 0.0, 0.0]] * 5] * 2)  # a nested list of floats is fine
+    with pytest.raises(TypeError, match="integers"):
+        batch.reset(["a"])
     with pytest.raises(IndexError):
         batch.reset([2])
     with pytest.raises(IndexError):
