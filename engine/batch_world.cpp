@@ -124,6 +124,12 @@ struct BatchWorld::Impl {
         if (!(travel.norm() / dt <= kMostSpeed))
           throw Error("BatchWorld::step: " + where(w, b, scene) + ": the target is " +
                       number_text(travel.norm()) + " m away, more than 1e6 m/s over one step");
+        const Quat from(now[3], now[4], now[5], now[6]);
+        const Quat to = Quat(target[3], target[4], target[5], target[6]).normalized();
+        const Real turn = from.angularDistance(to);
+        if (!(turn / dt <= kMostSpeed))
+          throw Error("BatchWorld::step: " + where(w, b, scene) + ": turning " + number_text(turn) +
+                      " rad in one step is more than 1e6 rad/s");
       }
     }
   }

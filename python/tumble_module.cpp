@@ -294,12 +294,9 @@ PYBIND11_MODULE(tumble, m) {
           "Targets [worlds, bodies, 7] (px py pz qw qx qy qz) for the kinematic bodies, reached "
           "at the end of the next step; rows of other bodies are ignored.")
       .def(
-          "step",
-          [](BatchWorld& b, int n) {
-            py::gil_scoped_release release;
-            b.step(n);
-          },
-          py::arg("n") = 1)
+          // The GIL stays held: another Python thread must not touch the batch's arrays or worlds
+          // while they step (the worlds already run on the batch's own threads).
+          "step", [](BatchWorld& b, int n) { b.step(n); }, py::arg("n") = 1)
       .def(
           "reset",
           [](BatchWorld& b, const py::object& ids) {
@@ -308,11 +305,25 @@ PYBIND11_MODULE(tumble, m) {
               return;
             }
             std::vector<int> list;
+            // Anything with __index__ (Python and numpy integers), but not bool.
+            const py::object index = py::module_::import("operator").attr("index");
             for (const py::handle h : ids) {
-              if (!py::isinstance<py::int_>(h))
+              if (py::isinstance<py::bool_>(h))
+                throw py::type_error("reset: world ids must be integers, got a bool");
+              long long id = 0;
+              try {
+                id = index(h).cast<long long>();
+              } catch (const py::error_already_set&) {
                 throw py::type_error("reset: world ids must be integers, got " +
                                      py::repr(h).cast<std::string>());
-              list.push_back(checked_world(b, h.cast<int>()));
+              } catch (const py::cast_error&) {
+                throw py::index_error("reset: world " + py::repr(h).cast<std::string>() +
+                                      " out of range for a batch of " + std::to_string(b.size()));
+              }
+              if (id < 0 || id >= b.size())
+                throw py::index_error("reset: world " + std::to_string(id) +
+                                      " out of range for a batch of " + std::to_string(b.size()));
+              list.push_back(static_cast<int>(id));
             }
             b.reset(list);
           },

@@ -4,7 +4,7 @@
 // reads and writes in place (the Python module hands them to numpy without copies).
 //
 // World i of a batch is bit-identical to a lone World of the same model given the same actions,
-// whatever the thread count. docs/rl.md describes the layout and the costs.
+// whatever the thread count. docs/api.md ("Batches of worlds") and docs/python.md describe it.
 #pragma once
 
 #include <cstdint>
@@ -63,7 +63,8 @@ class BatchWorld {
   void reset();
 
   // [world][body][3], N: the contact force on each body over the last step (the impulses of its
-  // contacts divided by dt), and [world][body] the number of bodies it touched.
+  // contacts divided by dt), and [world][body] the number of bodies it touched. Pairs of an
+  // island that sleeps (world.sleeping) are not solved, so they count neither.
   std::span<const Real> contact_forces() const;
   std::span<const std::int32_t> contact_counts() const;
 

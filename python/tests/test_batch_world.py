@@ -101,6 +101,11 @@ def test_bad_calls_raise_python_errors(pile_scene):
     with pytest.raises(IndexError):
         batch.reset([2])
     with pytest.raises(IndexError):
+        batch.reset([2**40])
+    with pytest.raises(TypeError):
+        batch.reset([True])
+    batch.reset(np.array([0, 1]))  # numpy integers, as np.nonzero(done)[0] gives
+    with pytest.raises(IndexError):
         batch.state_hash(-1)
     with pytest.raises(tumble.SceneError):
         tumble.BatchWorld("/nonexistent/scene.yaml", 2)

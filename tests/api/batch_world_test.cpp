@@ -131,6 +131,20 @@ TEST(BatchWorld, KinematicTargetsAreReached) {
   }
 }
 
+TEST(BatchWorld, RefusesATurnALoneWorldRefuses) {
+  BodyDesc paddle = kinematic_body("paddle", Shape::box(Vec3(0.1, 0.5, 0.3)));
+  auto scene = scene_of({ground(), paddle});
+  scene->world.dt = 1e-6;  // half a turn in one step: 3.1e6 rad/s
+  BatchWorld batch(scene, 1, 1);
+  Real* t = batch.kinematic_targets().data() + BatchWorld::kTargetWidth;
+  t[6] = 1;  // w x y z = 0 0 0 1
+  batch.kinematic_target_set()[1] = 1;
+  EXPECT_THROW(batch.step(), Error);
+  World lone(scene);
+  EXPECT_THROW(lone.set_kinematic_target(lone.body("paddle"), Vec3::Zero(), Quat(0, 0, 0, 1)),
+               Error);
+}
+
 TEST(BatchWorld, BadActionsStepNothingAndNameWorldAndBody) {
   BatchWorld batch(pile(), 4, 2);
   const int bodies = batch.body_count();
