@@ -47,7 +47,12 @@ int run_command(const RunOptions& options) {
     scene->world.threads = *options.threads;
   if (options.dt)
     scene->world.dt = *options.dt;
-  // The overrides pass the check the file passed (the same ranges, tumble/model.hpp).
+  if (options.duration) {
+    scene->world.duration = *options.duration;
+    scene->world.steps.reset();
+  }
+  // The overrides pass the check the file passed (the same ranges, tumble/model.hpp), the steps
+  // duration / dt makes included.
   try {
     check_scene(*scene);
   } catch (const SceneError& e) {
@@ -55,6 +60,8 @@ int run_command(const RunOptions& options) {
       throw SceneError(e.file, 0, 0, "--dt", e.reason);
     if (e.field == "world.threads" && options.threads)
       throw SceneError(e.file, 0, 0, "--threads", e.reason);
+    if (e.field == "world.duration" && options.duration)
+      throw SceneError(e.file, 0, 0, "--duration", e.reason);
     throw;
   }
 

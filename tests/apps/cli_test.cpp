@@ -174,6 +174,23 @@ TEST(Cli, BadCommandLinesAreUserErrors) {
   }
 }
 
+// Overrides pass the scene's own checks: a time step below 1e-9 s, a duration beyond 1e9 s, and a
+// step count duration / dt beyond 1e9 are refused by name before anything runs.
+TEST(Cli, OverridesGetTheScenesChecks) {
+  const std::string scene = kScenes + "free_flight.yaml";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {" --dt 1e-12", "--dt"},
+      {" --dt 1e-300", "--dt"},
+      {" --duration 1e300", "--duration"},
+      {" --duration 1e8 --dt 0.01", "--duration"}};
+  for (const auto& [args, named] : cases) {
+    const Result r = run_cli("run " + scene + args + " -q -o /tmp/tumble_cli_overrides");
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("field '" + named + "'"), std::string::npos) << args << "\n"
+                                                                         << r.output;
+  }
+}
+
 TEST(Cli, MissingSceneIsAUserError) {
   for (const std::string verb : {"run", "validate"}) {
     const Result r = run_cli(verb + " /nonexistent/dir/scene.yaml");
