@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
 #include "engine/simulation.hpp"
@@ -21,8 +22,6 @@ namespace {
 
 constexpr int kMostWorlds = 1000000;
 constexpr Real kMostLoad = 1e15;  // N, N m
-constexpr Real kMostSpeed = 1e6;  // m/s
-constexpr Real kMostCoordinate = 1e9;
 
 int thread_count(int threads) {
   if (threads > 0)
@@ -108,28 +107,15 @@ struct BatchWorld::Impl {
           throw Error("BatchWorld::step: " + where(w, b, scene) +
                       " has a kinematic target but is not kinematic");
         const Real* target = x + kTargetWidth * b;
-        Real norm = 0;
-        for (int c = 0; c < kTargetWidth; ++c) {
-          if (!(std::abs(target[c]) <= kMostCoordinate))
-            throw Error("BatchWorld::step: " + where(w, b, scene) + ": target[" +
-                        std::to_string(c) + "] = " + number_text(target[c]) +
-                        " is not finite or beyond 1e9");
-          norm += c >= 3 ? target[c] * target[c] : 0;
-        }
-        if (!(norm > 1e-18))
-          throw Error("BatchWorld::step: " + where(w, b, scene) +
-                      ": the target's orientation is a zero quaternion");
         const Real* now = o + kObservationWidth * b;
-        const Vec3 travel(target[0] - now[0], target[1] - now[1], target[2] - now[2]);
-        if (!(travel.norm() / dt <= kMostSpeed))
-          throw Error("BatchWorld::step: " + where(w, b, scene) + ": the target is " +
-                      number_text(travel.norm()) + " m away, more than 1e6 m/s over one step");
-        const Quat from(now[3], now[4], now[5], now[6]);
-        const Quat to = Quat(target[3], target[4], target[5], target[6]).normalized();
-        const Real turn = from.angularDistance(to);
-        if (!(turn / dt <= kMostSpeed))
-          throw Error("BatchWorld::step: " + where(w, b, scene) + ": turning " + number_text(turn) +
-                      " rad in one step is more than 1e6 rad/s");
+        BodyState from;
+        from.position = Vec3(now[0], now[1], now[2]);
+        from.orientation = Quat(now[3], now[4], now[5], now[6]);
+        const std::string problem =
+            kinematic_target_problem(from, Vec3(target[0], target[1], target[2]),
+                                     Quat(target[3], target[4], target[5], target[6]), dt);
+        if (!problem.empty())
+          throw Error("BatchWorld::step: " + where(w, b, scene) + ": " + problem);
       }
     }
   }

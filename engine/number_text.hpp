@@ -1,5 +1,5 @@
-// Numbers in error messages: the shortest text that reads back as the same double, and nan/inf
-// spelled as YAML and Python spell them.
+// Numbers and vectors in error messages: the shortest text that reads back as the same double, and
+// nan/inf spelled as YAML and Python spell them.
 #pragma once
 
 #include <charconv>
@@ -18,6 +18,14 @@ inline std::string number_text(Real v) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
   return std::string(buffer, result.ptr);
+}
+
+// Built with append: GCC 12 warns falsely (-Wrestrict) about "(" + std::string when inlined.
+inline std::string vector_text(const Vec3& v) {
+  std::string text("(");
+  text.append(number_text(v.x())).append(", ").append(number_text(v.y())).append(", ");
+  text.append(number_text(v.z())).append(")");
+  return text;
 }
 
 }  // namespace tumble

@@ -170,12 +170,7 @@ void Simulation::set_state(const State& state) {
   contacts_.clear();
   penalty_springs_.clear();
   candidate_pairs_.clear();
-  for (const std::int32_t i : loaded_bodies_) {
-    force_[std::size_t(i)].setZero();
-    torque_[std::size_t(i)].setZero();
-    loaded_[std::size_t(i)] = 0;
-  }
-  loaded_bodies_.clear();
+  clear_loads();
   std::fill(has_target_.begin(), has_target_.end(), std::uint8_t(0));
   // A state made by hand may leave the sleep records out: nothing sleeps then.
   state_.slow_time.resize(state_.bodies.size(), 0);
@@ -209,6 +204,16 @@ void Simulation::teleport(int body, const Vec3& position, const Quat& orientatio
     wake_near(world_aabb(shape, pose_of(b)));
   if (!model_->is_fixed(std::size_t(body)))
     wake(body);
+}
+
+// Forces and torques act for one step (or are dropped with the state they were meant for).
+void Simulation::clear_loads() {
+  for (const std::int32_t i : loaded_bodies_) {
+    force_[std::size_t(i)].setZero();
+    torque_[std::size_t(i)].setZero();
+    loaded_[std::size_t(i)] = 0;
+  }
+  loaded_bodies_.clear();
 }
 
 // Wakes every moving body whose box, grown by the contact margin, meets `box`.
@@ -420,12 +425,7 @@ void Simulation::step_on_runner() {
   move_kinematic_bodies(1, w.dt);
   for (const std::int32_t i : kinematic_bodies_)
     has_target_[std::size_t(i)] = 0;
-  for (const std::int32_t i : loaded_bodies_) {
-    force_[std::size_t(i)].setZero();
-    torque_[std::size_t(i)].setZero();
-    loaded_[std::size_t(i)] = 0;
-  }
-  loaded_bodies_.clear();
+  clear_loads();
   sweep_fast_bodies();
   finish_contacts();
   update_sleep(w.dt);

@@ -153,6 +153,7 @@ class Simulation {
   void choose_penalty_substeps();
   void drop_pairs_of(int body);
   void wake_near(const Aabb& box);
+  void clear_loads();
   void start_kinematic_motion(Real dt);
   void move_kinematic_bodies(Real fraction, Real dt);
   template <class Update>

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
 #include "engine/scene_check.hpp"
@@ -15,10 +16,6 @@
 
 namespace tumble {
 namespace {
-
-std::string vector_text(const Vec3& v) {
-  return "(" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + ")";
-}
 
 // Forces, impulses and velocities beyond these are typos or blow-ups, not physics; they would
 // overflow a step long before they meant anything.
@@ -212,24 +209,10 @@ void World::set_kinematic_target(BodyId id, const Vec3& position, const Quat& or
     throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "' is " +
                 (live().scene().bodies[std::size_t(i)].is_static ? "static" : "dynamic") +
                 ", not kinematic (kinematic: true in the scene, or BodyDesc::kinematic)");
-  if (!(position.allFinite() && position.cwiseAbs().maxCoeff() <= kMaxCoordinate))
-    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': position " +
-                vector_text(position) + " m is not finite or beyond 1e9");
-  if (!(orientation.coeffs().allFinite() && orientation.norm() > 1e-9))
-    throw Error("tumble::World::set_kinematic_target: body '" + name(id) +
-                "': the orientation is not a finite, non-zero quaternion");
-  // The speed that reaches the target in one step must be one the engine accepts.
-  const Real dt = live().scene().world.dt;
-  const Vec3 travel = position - live().state().bodies[std::size_t(i)].position;
-  if (!(travel.norm() / dt <= kMaxSpeed))
-    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': the target " +
-                vector_text(position) + " is " + number_text(travel.norm()) +
-                " m away, more than 1e6 m/s over one step");
-  const Quat from = live().state().bodies[std::size_t(i)].orientation;
-  const Real turn = from.angularDistance(orientation.normalized());
-  if (!(turn / dt <= kMaxSpeed))
-    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': turning " +
-                number_text(turn) + " rad in one step is more than 1e6 rad/s");
+  const std::string problem = kinematic_target_problem(
+      live().state().bodies[std::size_t(i)], position, orientation, live().scene().world.dt);
+  if (!problem.empty())
+    throw Error("tumble::World::set_kinematic_target: body '" + name(id) + "': " + problem);
   live().set_kinematic_target(i, position, orientation);
 }
 

@@ -1,6 +1,8 @@
 // The YAML scene reader's text helpers, field readers and document parsing (yaml_reader.hpp).
 #include "scenes/yaml_reader.hpp"
 
+#include "engine/number_text.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -35,9 +37,7 @@ std::string index(const std::string& path, std::size_t i) {
 
 // Shortest text that reads back to the same double.
 std::string fmt(Real v) {
-  std::array<char, 64> buf{};
-  const auto result = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return std::string(buf.data(), result.ptr);
+  return number_text(v);
 }
 
 // A value as the user wrote it, made safe for a one-line message: control bytes escaped, long
