@@ -21,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int run_cli(const std::string& arguments) {
+int run_tumble(const std::string& arguments) {
   const std::string command = std::string(TUMBLE_CLI) + " " + arguments + " > /dev/null 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -46,7 +46,7 @@ TEST(RunOutputs, NpyHoldsTheCsvsNumbersUnderAValidHeader) {
   const fs::path dir = fs::temp_directory_path() / "tumble_run_outputs_npy";
   fs::remove_all(dir);
   const std::string scene = std::string(TUMBLE_SOURCE_DIR) + "/scenes/stack10.yaml";
-  ASSERT_EQ(run_cli("run " + scene + " --steps 20 --format both -q -o " + dir.string()), 0);
+  ASSERT_EQ(run_tumble("run " + scene + " --steps 20 --format both -q -o " + dir.string()), 0);
   std::ifstream in(dir / "trajectory.npy", std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
   ASSERT_GT(bytes.size(), 10u);
@@ -77,7 +77,7 @@ TEST(RunOutputs, ContactsCsvHoldsTheWorldsReports) {
   const fs::path dir = fs::temp_directory_path() / "tumble_run_outputs_contacts";
   fs::remove_all(dir);
   const std::string scene = std::string(TUMBLE_SOURCE_DIR) + "/scenes/stack10.yaml";
-  ASSERT_EQ(run_cli("run " + scene + " --steps 30 --contacts -q -o " + dir.string()), 0);
+  ASSERT_EQ(run_tumble("run " + scene + " --steps 30 --contacts -q -o " + dir.string()), 0);
   const auto rows = read_csv(dir / "contacts.csv");
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0].size(), 14u);

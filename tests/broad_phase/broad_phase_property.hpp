@@ -22,6 +22,9 @@
 
 namespace tumble::test {
 
+// An unbounded box edge (planes and walls in the layouts).
+inline constexpr Real kInf = std::numeric_limits<Real>::infinity();
+
 using BroadPhaseFactory = std::function<std::unique_ptr<BroadPhase>()>;
 
 // A cube of half side `half` around `centre`.

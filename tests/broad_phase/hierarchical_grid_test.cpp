@@ -11,8 +11,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 TEST(HierarchicalGrid, AgreesWithBruteForceInEveryLayout) {
   check_every_layout([] { return std::make_unique<HierarchicalGridBroadPhase>(); });
 }

@@ -11,8 +11,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 BroadPhaseFactory kd_tree(KdTreeOptions options = {}) {
   return [=] { return std::make_unique<KdTreeBroadPhase>(options); };
 }

@@ -11,8 +11,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 BroadPhaseFactory octree(Real k, int n_max = 32, int d_max = 20) {
   return [=] { return std::make_unique<LooseOctreeBroadPhase>(k, n_max, d_max); };
 }

@@ -17,20 +17,18 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 BroadPhaseFactory hash(SpatialHashSettings settings = {}) {
   return [settings] { return std::make_unique<SpatialHashBroadPhase>(settings); };
 }
 
 // Two structures fed the same calls; compare() checks pairs, box queries and ray casts.
-struct Lockstep {
+struct HashLockstep {
   SpatialHashBroadPhase tested;
   BruteForceBroadPhase reference;
   std::vector<ProxyPair> got, want;
   std::vector<std::int32_t> got_ids, want_ids;
 
-  explicit Lockstep(const SpatialHashSettings& s = {}) : tested(s) {}
+  explicit HashLockstep(const SpatialHashSettings& s = {}) : tested(s) {}
   void insert(int id, const Aabb& b, bool is_static = false) {
     tested.insert(id, b, is_static);
     reference.insert(id, b, is_static);
@@ -88,7 +86,7 @@ TEST(SpatialHash, CellsMuchLargerThanTheBoxesAgree) {
 // One box over 10 x 10 x 10 = 1000 cells (kept in the table), a second one over 729 of the same
 // cells, and small boxes inside both: every pair once, however many cells its boxes share.
 TEST(SpatialHash, BoxSpanning1000CellsReportsEachPairOnce) {
-  Lockstep s({.cell_size = 1, .max_cells_per_box = 4096});
+  HashLockstep s({.cell_size = 1, .max_cells_per_box = 4096});
   s.insert(0, {Vec3::Constant(0.5), Vec3::Constant(9.5)});       // cells 0..9 on each axis
   s.insert(1, {Vec3::Constant(1.5), Vec3::Constant(9.25)});      // cells 1..9
   s.insert(2, {Vec3::Constant(-5), Vec3::Constant(0.5)}, true);  // touches box 0 at a corner
@@ -120,7 +118,7 @@ TEST(SpatialHash, BoxSpanning1000CellsReportsEachPairOnce) {
 // Cells whose x differs by 2^20 land in the same bucket for every table of up to 2^20 buckets
 // (the Teschner hash is linear mod a power of two): boxes there must not pair.
 TEST(SpatialHash, HashCollisionsMakeNoFalsePairs) {
-  Lockstep s({.cell_size = 1});
+  HashLockstep s({.cell_size = 1});
   const Real far = Real(1 << 20);
   for (int i = 0; i < 50; ++i) {
     const Vec3 c(0.5 + (i % 2) * far, 0.5 + i / 2 * 3, 0.5);
@@ -139,7 +137,7 @@ TEST(SpatialHash, HashCollisionsMakeNoFalsePairs) {
 // A ground plane (x, y infinite, z in (-inf, 0]), an infinite wall and an everything-box among
 // finite boxes that fall through the plane, rest exactly on it, and leave it.
 TEST(SpatialHash, InfiniteBoxesAgree) {
-  Lockstep s;
+  HashLockstep s;
   s.insert(1000, {Vec3(-kInf, -kInf, -kInf), Vec3(kInf, kInf, 0)}, true);
   s.insert(1001, {Vec3(5, -kInf, -kInf), Vec3(kInf, kInf, kInf)}, false);
   s.insert(1002, {Vec3(-kInf, -kInf, -kInf), Vec3(kInf, kInf, kInf)}, true);
@@ -175,7 +173,7 @@ TEST(SpatialHash, InfiniteBoxesAgree) {
 // Queries asked after updates, inserts and removes but before the next find_pairs (the table
 // is stale): the changed boxes must be seen where they are now, removed ones not at all.
 TEST(SpatialHash, QueriesBetweenBuildsSeeTheCurrentBoxes) {
-  Lockstep s;
+  HashLockstep s;
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<Real> u(-10, 10);
   std::vector<Aabb> boxes;

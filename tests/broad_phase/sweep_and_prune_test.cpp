@@ -15,8 +15,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 // Which update path moves take: chosen by the structure, or forced one way.
 enum class Path { automatic, always_reinsert, always_sort };
 
@@ -42,13 +40,13 @@ BroadPhaseFactory sap(Path path = Path::automatic) {
 }
 
 // Two structures fed the same calls; compare() checks pairs, a few box queries and ray casts.
-struct Lockstep {
+struct SapLockstep {
   SweepAndPruneBroadPhase tested;
   BruteForceBroadPhase reference;
   std::vector<ProxyPair> got, want;
   std::vector<std::int32_t> got_ids, want_ids;
 
-  explicit Lockstep(const SweepAndPruneSettings& s = {}) : tested(s) {}
+  explicit SapLockstep(const SweepAndPruneSettings& s = {}) : tested(s) {}
   void insert(int id, const Aabb& b, bool is_static = false) {
     tested.insert(id, b, is_static);
     reference.insert(id, b, is_static);
@@ -101,7 +99,7 @@ TEST(SweepAndPrune, InsertionSortPathAgreesInEveryLayout) {
 
 // The two paths are really taken: coherent moves sort, teleports reinsert (default threshold).
 TEST(SweepAndPrune, TeleportsTakeTheLargeMovePathAndAgree) {
-  Lockstep s;
+  SapLockstep s;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<Real> u(-20, 20);
   std::uniform_real_distribution<Real> small(-0.05, 0.05);
@@ -139,7 +137,7 @@ TEST(SweepAndPrune, TeleportsTakeTheLargeMovePathAndAgree) {
 // them tied. Touching boxes overlap (closed intervals), so the tie order matters.
 void check_grid_with_ties(Path path) {
   SCOPED_TRACE(path_name(path));
-  Lockstep s(settings_for(path));
+  SapLockstep s(settings_for(path));
   std::mt19937_64 rng(3);
   const int n = 6;
   std::vector<Aabb> boxes;
@@ -187,7 +185,7 @@ TEST(SweepAndPrune, ExactlyEqualCoordinatesAgree) {
 TEST(SweepAndPrune, InfiniteBoxesAgree) {
   for (Path path : {Path::automatic, Path::always_reinsert, Path::always_sort}) {
     SCOPED_TRACE(path_name(path));
-    Lockstep s(settings_for(path));
+    SapLockstep s(settings_for(path));
     s.insert(1000, {Vec3(-kInf, -kInf, -kInf), Vec3(kInf, kInf, 0)}, true);     // ground
     s.insert(1001, {Vec3(5, -kInf, -kInf), Vec3(kInf, kInf, kInf)}, false);     // wall x >= 5
     s.insert(1002, {Vec3(-kInf, -kInf, -kInf), Vec3(kInf, kInf, kInf)}, true);  // everything
@@ -224,7 +222,7 @@ TEST(SweepAndPrune, InfiniteBoxesAgree) {
 
 // Ids large and sparse, removed and reused, and a proxy removed in the same step it moved.
 TEST(SweepAndPrune, SparseReusedIdsAgree) {
-  Lockstep s;
+  SapLockstep s;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<Real> u(-5, 5);
   std::vector<int> ids;
@@ -255,7 +253,7 @@ TEST(SweepAndPrune, SparseReusedIdsAgree) {
 // inserts, dead endpoints still in the arrays, and reinserted teleports must all be seen as
 // they are now.
 TEST(SweepAndPrune, QueriesBetweenFindPairsSeeTheCurrentBoxes) {
-  Lockstep s;
+  SapLockstep s;
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<Real> u(-10, 10);
   std::vector<Aabb> boxes;

@@ -9,8 +9,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
 TEST(UniformGrid, AgreesWithBruteForceInEveryLayout) {
   check_every_layout([] { return std::make_unique<UniformGridBroadPhase>(); });
 }

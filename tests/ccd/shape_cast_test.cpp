@@ -56,7 +56,7 @@ Shape height_field(int n, Real cell, Height height) {
       std::make_shared<const TriangleMesh>(TriangleMesh::build(vertices, triangles)));
 }
 
-std::shared_ptr<const ConvexHull> random_hull(std::mt19937_64& rng) {
+std::shared_ptr<const ConvexHull> random_surface_hull(std::mt19937_64& rng) {
   std::uniform_int_distribution<int> count(5, 30);
   const Vec3 radii = random_vector(rng, 0.1, 0.6);
   std::vector<Vec3> points;
@@ -118,7 +118,7 @@ TEST(ShapeCast, ConvexShapesOntoBumpyMeshTouchFirstAtTheReportedTime) {
         shape = Shape::cylinder(0.1 + 0.3 * u(rng), 0.1 + 0.4 * u(rng));
         break;
       default:
-        shape = Shape::convex_hull(random_hull(rng));
+        shape = Shape::convex_hull(random_surface_hull(rng));
     }
     const Transform pose{Vec3(4 * u(rng) - 2, 4 * u(rng) - 2, 1.5 + u(rng)), random_rotation(rng)};
     const Vec3 move(2 * u(rng) - 1, 2 * u(rng) - 1, -(2 + 2 * u(rng)));
@@ -155,8 +155,8 @@ TEST(ShapeCast, HullOntoHullAgreesWithTheTimeExtendedSat) {
   int hits = 0;
   Real worst = 0;
   for (int c = 0; c < cases; ++c) {
-    const auto a = random_hull(rng);
-    const auto b = random_hull(rng);
+    const auto a = random_surface_hull(rng);
+    const auto b = random_surface_hull(rng);
     const Transform pose_b{Vec3::Zero(), random_rotation(rng)};
     const Transform pose_a{random_unit(rng) * (1.5 + u(rng)), random_rotation(rng)};
     // Towards B, off by up to 0.6 m so that some casts miss.

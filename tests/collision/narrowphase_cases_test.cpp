@@ -100,7 +100,7 @@ Transform to_pose(const json& j) {
   return pose;
 }
 
-Transform compose(const Transform& outer, const Transform& inner) {
+Transform pose_in_world(const Transform& outer, const Transform& inner) {
   return {outer.apply(inner.translation), outer.rotation * inner.rotation};
 }
 
@@ -128,7 +128,7 @@ struct Result {
 
 Result run(const Query& q, Real margin) {
   Result r;
-  collide(q.a.shape, compose(q.pose_a, q.a.local), q.b.shape, compose(q.pose_b, q.b.local), margin,
+  collide(q.a.shape, pose_in_world(q.pose_a, q.a.local), q.b.shape, pose_in_world(q.pose_b, q.b.local), margin,
           r.manifold);
   r.deepest = deepest_point(r.manifold);
   if (r.deepest >= 0)
@@ -318,7 +318,7 @@ std::optional<Query> resolve(const std::string& label, const json& q, std::strin
   return query;
 }
 
-Quat about(const Vec3& axis, Real angle) {
+Quat turn_about(const Vec3& axis, Real angle) {
   return Quat(Eigen::AngleAxis<Real>(angle, axis));
 }
 
@@ -328,11 +328,11 @@ void check_fcl_permutations(const Query& base, const std::function<void(const Re
                             Counts& counts) {
   const Real pi = std::numbers::pi;
   const std::vector<Quat> pre_rotations = {Quat::Identity(),
-                                           about(Vec3::UnitX(), pi),
-                                           about(Vec3::UnitX(), pi / 2),
-                                           about(Vec3::UnitX(), 1.5 * pi),
-                                           about(Vec3::UnitY(), pi / 2),
-                                           about(Vec3::UnitY(), 1.5 * pi)};
+                                           turn_about(Vec3::UnitX(), pi),
+                                           turn_about(Vec3::UnitX(), pi / 2),
+                                           turn_about(Vec3::UnitX(), 1.5 * pi),
+                                           turn_about(Vec3::UnitY(), pi / 2),
+                                           turn_about(Vec3::UnitY(), 1.5 * pi)};
   for (std::size_t k = 0; k < pre_rotations.size(); ++k) {
     Query q = base;
     q.pose_b.rotation = base.pose_b.rotation * pre_rotations[k];
@@ -372,7 +372,7 @@ void check_sweeps(const json& c, Counts& counts) {
       // Sweep 2: A at a fixed place, turned by k pi / 20 about +Y; apart only when aligned.
       for (int k = 0; k < 30; ++k) {
         const Transform pose_a{to_vec(sweep.at("A_position")),
-                               about(Vec3::UnitY(), k * std::numbers::pi / 20)};
+                               turn_about(Vec3::UnitY(), k * std::numbers::pi / 20)};
         EXPECT_EQ(intersects(a->shape, pose_a, b->shape, pose_b), k != 0 && k != 10 && k != 20)
             << "k " << k;
         ++counts.checked;

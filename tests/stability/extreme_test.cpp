@@ -10,13 +10,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr SolverType kBoth[] = {SolverType::impulse, SolverType::penalty};
-
-void expect_sane(const StabilityRecord& r) {
-  EXPECT_TRUE(r.finite);
-  EXPECT_LE(r.max_energy_gain, 1e-9 * std::max(Real(1), std::abs(r.initial_energy)));
-}
-
 // Newton's cradle, five unit spheres, e = 1: the last ball leaves with at least 95% of the
 // first one's speed and the others are nearly at rest (below 5% of it). Only the impulse
 // solver models restitution; the penalty solver's bounce comes from its spring and its numbers

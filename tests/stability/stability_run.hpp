@@ -4,6 +4,9 @@
 // overlapping pair at sampled steps), and the largest drift of chosen bodies.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -129,6 +132,14 @@ inline void report(const std::string& what, SolverType solver, const StabilityRe
       what.c_str(), solver_label(solver), static_cast<long long>(r.steps), r.finite ? 1 : 0,
       r.max_energy_gain, r.initial_energy, r.max_penetration, r.max_drift, r.final_drift,
       r.max_tilt, r.seconds_per_step * 1e6);
+}
+
+inline constexpr SolverType kBoth[] = {SolverType::impulse, SolverType::penalty};
+
+// Every run: finite, and never more energy than at the start (to rounding of the total).
+inline void expect_sane(const StabilityRecord& r) {
+  EXPECT_TRUE(r.finite);
+  EXPECT_LE(r.max_energy_gain, 1e-9 * std::max(Real(1), std::abs(r.initial_energy)));
 }
 
 }  // namespace tumble::test

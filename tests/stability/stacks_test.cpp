@@ -6,14 +6,6 @@
 namespace tumble::test {
 namespace {
 
-constexpr SolverType kBoth[] = {SolverType::impulse, SolverType::penalty};
-
-// Every run: finite, and never more energy than at the start (to rounding of the total).
-void expect_sane(const StabilityRecord& r) {
-  EXPECT_TRUE(r.finite);
-  EXPECT_LE(r.max_energy_gain, 1e-9 * std::max(Real(1), std::abs(r.initial_energy)));
-}
-
 int top_body(const Scene& scene) {
   int top = -1;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
