@@ -14,8 +14,10 @@
 #include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
+#include "engine/random_stream.hpp"
 #include "engine/simulation.hpp"
 #include "tumble/error.hpp"
+#include "tumble/randomization.hpp"
 
 namespace tumble {
 namespace {
@@ -40,6 +42,11 @@ std::string where(int world, int body, const Scene& scene) {
 struct BatchWorld::Impl {
   std::shared_ptr<const Model> model;
   std::vector<World> worlds;
+  // Domain randomization (tumble/randomization.hpp): whether the scene draws, the batch's seed,
+  // and each world's current seed and number of draws so far.
+  bool randomizing = false;
+  std::uint64_t base_seed = 0;
+  std::vector<std::uint64_t> seeds, draws;
   int bodies = 0;
   int threads = 1;
   std::unique_ptr<tbb::task_arena> arena;
@@ -149,6 +156,18 @@ struct BatchWorld::Impl {
                                  std::size_t(bodies)));
   }
 
+  // World w made afresh from its draw of `seed`, or reset to the model's initial state.
+  void renew(int w, std::uint64_t seed) {
+    seeds[std::size_t(w)] = seed;
+    World& world = worlds[std::size_t(w)];
+    if (!randomizing) {
+      world.reset();
+      return;
+    }
+    world = World(compile(std::make_shared<const Scene>(randomized(model->scene(), seed))));
+    world.set_threads(1);
+  }
+
   template <class Work>
   void for_worlds(const Work& work) {
     const int n = static_cast<int>(worlds.size());
@@ -166,10 +185,12 @@ struct BatchWorld::Impl {
   }
 };
 
-BatchWorld::BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads)
-    : BatchWorld(compile(std::move(scene)), num_worlds, threads) {}
+BatchWorld::BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads,
+                       std::uint64_t seed)
+    : BatchWorld(compile(std::move(scene)), num_worlds, threads, seed) {}
 
-BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads)
+BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads,
+                       std::uint64_t seed)
     : impl_(std::make_unique<Impl>()) {
   if (!model)
     throw Error("BatchWorld: the model is null");
@@ -178,10 +199,18 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   Impl& m = *impl_;
   m.model = std::move(model);
   m.bodies = static_cast<int>(m.model->body_count());
+  m.randomizing = m.model->scene().randomize.any();
+  m.base_seed = seed;
+  m.seeds.assign(std::size_t(num_worlds), 0);
+  m.draws.assign(std::size_t(num_worlds), 0);
   m.worlds.reserve(std::size_t(num_worlds));
   for (int w = 0; w < num_worlds; ++w) {
     m.worlds.emplace_back(m.model);
     m.worlds.back().set_threads(1);
+    if (m.randomizing)
+      m.renew(w, draw_seed(seed, w, 0));
+    else
+      m.seeds[std::size_t(w)] = draw_seed(seed, w, 0);
   }
   const std::size_t rows = std::size_t(num_worlds) * std::size_t(m.bodies);
   m.observations.assign(rows * kObservationWidth, 0);
@@ -249,13 +278,27 @@ void BatchWorld::step(int n) {
 }
 
 void BatchWorld::reset(std::span<const int> worlds) {
+  reset_worlds(worlds, {});
+}
+
+void BatchWorld::reset(std::span<const int> worlds, std::span<const std::uint64_t> seeds) {
+  if (seeds.size() != worlds.size())
+    throw Error("BatchWorld::reset: " + std::to_string(seeds.size()) + " seeds for " +
+                std::to_string(worlds.size()) + " worlds; give one seed per world");
+  reset_worlds(worlds, seeds);
+}
+
+void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::uint64_t> seeds) {
   for (const int w : worlds) {
     if (w < 0 || w >= size())
       throw Error("BatchWorld::reset: world " + std::to_string(w) + " of " +
                   std::to_string(size()));
   }
-  for (const int w : worlds) {
-    impl_->worlds[std::size_t(w)].reset();
+  for (std::size_t i = 0; i < worlds.size(); ++i) {
+    const int w = worlds[i];
+    std::uint64_t& draw = impl_->draws[std::size_t(w)];
+    ++draw;
+    impl_->renew(w, seeds.empty() ? draw_seed(impl_->base_seed, w, draw) : seeds[i]);
     impl_->observe(w);
     const std::size_t first = std::size_t(w) * std::size_t(impl_->bodies);
     std::fill_n(impl_->contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * impl_->bodies,
@@ -278,6 +321,15 @@ std::span<const Real> BatchWorld::contact_forces() const {
 
 std::span<const std::int32_t> BatchWorld::contact_counts() const {
   return impl_->contact_counts;
+}
+
+std::uint64_t BatchWorld::seed(int index) const {
+  world(index);  // checks the index
+  return impl_->seeds[std::size_t(index)];
+}
+
+std::uint64_t BatchWorld::draw_seed(std::uint64_t seed, int world, std::uint64_t draw) {
+  return RandomStream(seed, std::uint64_t(world), draw).next();
 }
 
 std::uint64_t BatchWorld::state_hash(int index) const {

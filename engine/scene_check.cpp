@@ -177,8 +177,40 @@ class Checker {
       real(moments[k], kMoment, field + ".inertia (principal moment " + std::to_string(k) + ")");
   }
 
+  void interval(const std::optional<Interval>& i, const RealSpec& spec,
+                const std::string& field) const {
+    if (!i)
+      return;
+    real(i->low, spec, field + "[0]");
+    real(i->high, spec, field + "[1]");
+    if (!(i->low <= i->high))
+      fail(field, "expected [low, high] with low <= high, got [" + number_text(i->low) + ", " +
+                      number_text(i->high) + "]");
+  }
+
+  void randomization(const Randomization& r) const {
+    interval(r.friction, kFriction, "randomize.friction");
+    interval(r.restitution, kRestitution, "randomize.restitution");
+    interval(r.mass_scale, kMassScale, "randomize.mass_scale");
+    real(r.size_noise, kSizeNoise, "randomize.size_noise");
+    real(r.position_noise, kDistance, "randomize.position_noise");
+    real(r.orientation_noise, kAngleNoise, "randomize.orientation_noise");
+    if (r.gravity_low.has_value() != r.gravity_high.has_value())
+      fail("randomize.gravity", "expected both low and high gravity, or neither");
+    if (!r.gravity_low)
+      return;
+    vector(*r.gravity_low, kAcceleration, "randomize.gravity.low");
+    vector(*r.gravity_high, kAcceleration, "randomize.gravity.high");
+    for (int k = 0; k < 3; ++k)
+      if (!((*r.gravity_low)[k] <= (*r.gravity_high)[k]))
+        fail("randomize.gravity",
+             "expected low <= high on every axis, got " + number_text((*r.gravity_low)[k]) + " > " +
+                 number_text((*r.gravity_high)[k]) + " on axis " + std::to_string(k));
+  }
+
   void scene() const {
     world(scene_.world);
+    randomization(scene_.randomize);
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       material(scene_.materials[m], "materials[" + std::to_string(m) + "]");
     if (scene_.bodies.size() > kMaxBodies)

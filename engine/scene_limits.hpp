@@ -88,6 +88,10 @@ inline constexpr RealSpec kDensity{"a positive density in kg/m^3", "greater than
                                    kMaxDensity, true};
 inline constexpr RealSpec kMoment{"a positive principal moment of inertia in kg m^2",
                                   "1e-40 to 1e40", kMinMoment, kMaxMoment};
+inline constexpr RealSpec kMassScale{"a positive factor", "greater than 0, at most 1e3", 0, 1e3,
+                                     true};
+inline constexpr RealSpec kSizeNoise{"a relative standard deviation", "0 to 0.2", 0, 0.2};
+inline constexpr RealSpec kAngleNoise{"a standard deviation in radians", "0 to 3.14", 0, 3.14};
 inline constexpr RealSpec kFov{"a vertical field of view in degrees", "1 to 179", 1, 179};
 
 inline constexpr IntSpec kSteps{"a whole number of steps", "1 to 1e9", 1, kMaxSteps};

@@ -19,7 +19,8 @@ namespace tumble {
 namespace scene_yaml {
 namespace {
 
-constexpr std::array<std::string_view, 4> kTopKeys{"world", "materials", "bodies", "camera"};
+constexpr std::array<std::string_view, 5> kTopKeys{"world", "materials", "bodies", "camera",
+                                                   "randomize"};
 
 }  // namespace
 
@@ -29,8 +30,9 @@ Scene Loader::load(std::string_view text) {
   YAML::Mark start;  // line 0, column 0: the start of the text
   start.line = 0;
   start.column = 0;
-  const Fields top = read_map(root, mark_or(root, start), "",
-                              "a map with the fields world, materials, bodies and camera", false);
+  const Fields top =
+      read_map(root, mark_or(root, start), "",
+               "a map with the fields world, materials, bodies, camera and randomize", false);
   check_known(top, kTopKeys);
 
   Scene scene;
@@ -38,6 +40,7 @@ Scene Loader::load(std::string_view text) {
   load_world(top.find("world"), scene.world);
   load_materials(top.find("materials"), scene.materials);
   load_bodies(top, scene);
+  load_randomize(top.find("randomize"), scene.randomize);
   if (const Entry* x = top.find("camera")) {
     scene.camera = load_camera(*x);
   }

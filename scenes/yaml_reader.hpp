@@ -233,6 +233,7 @@ class Loader {
                                         const RealSpec& spec) const;
 
   void load_world(const Entry* e, WorldSettings& world) const;
+  void load_randomize(const Entry* e, Randomization& randomize) const;
   void load_materials(const Entry* e, std::vector<Material>& materials) const;
   void load_bodies(const Fields& top, Scene& scene) const;
   BodyDesc load_body(const Node& node, const YAML::Mark& mark, std::size_t i,

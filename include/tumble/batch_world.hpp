@@ -27,8 +27,15 @@ class BatchWorld {
 
   // `num_worlds` worlds (1 to 1,000,000) of the model on `threads` threads (<= 0: the machine's
   // cores). Throws Error for counts out of range, SceneError for a scene that fails its check.
-  BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads = 0);
-  BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads = 0);
+  //
+  // If the scene has a `randomize` block (tumble/randomization.hpp), every world draws its own
+  // scene when it is made and at each reset: world i's k-th draw (k = 0 when made) uses the seed
+  // draw_seed(seed, i, k), and is the scene randomized(scene, that seed), so a lone
+  // World(randomized(scene, batch.seed(i))) is the same world bit for bit.
+  BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads = 0,
+             std::uint64_t seed = 0);
+  BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads = 0,
+             std::uint64_t seed = 0);
   ~BatchWorld();
   BatchWorld(BatchWorld&&) noexcept;
   BatchWorld& operator=(BatchWorld&&) noexcept;
@@ -58,9 +65,14 @@ class BatchWorld {
   // target on one that is not kinematic; nothing is stepped then.
   void step(int n = 1);
   // Back to the initial state (with an empty contact cache), for the worlds listed or all.
-  // Throws Error for an index out of range.
+  // Throws Error for an index out of range. A randomized scene draws anew: each listed world's
+  // next draw, or the draw of the seed given for it (`seeds` as long as `worlds`).
   void reset(std::span<const int> worlds);
+  void reset(std::span<const int> worlds, std::span<const std::uint64_t> seeds);
   void reset();
+  // The seed of world i's current draw (see the constructor), and the rule that makes it.
+  std::uint64_t seed(int world) const;
+  static std::uint64_t draw_seed(std::uint64_t seed, int world, std::uint64_t draw);
 
   // [world][body][3], N: the contact force on each body over the last step (the impulses of its
   // contacts divided by dt), and [world][body] the number of bodies it touched. Pairs of an
@@ -74,6 +86,7 @@ class BatchWorld {
   const World& world(int index) const;
 
  private:
+  void reset_worlds(std::span<const int> worlds, std::span<const std::uint64_t> seeds);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

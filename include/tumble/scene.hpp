@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tumble/math.hpp"
+#include "tumble/randomization.hpp"
 #include "tumble/settings.hpp"
 #include "tumble/shape.hpp"
 
@@ -78,6 +79,9 @@ struct Scene {
   // defaults. Evaluated once per pair of materials when a world is made, never in the step.
   MixingRule friction_mixing;
   MixingRule restitution_mixing;
+  // What each world of a batch draws at its reset (tumble/randomization.hpp); a lone World
+  // draws nothing: make it from randomized(scene, seed).
+  Randomization randomize;
 
   // The index of the body or material of that name, or -1.
   int find_body(std::string_view name) const;

@@ -8,6 +8,7 @@
 #include "tumble/load_scene.hpp"
 #include "tumble/math.hpp"
 #include "tumble/model.hpp"
+#include "tumble/randomization.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/settings.hpp"
 #include "tumble/shape.hpp"

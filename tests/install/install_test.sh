@@ -36,4 +36,19 @@ LD_LIBRARY_PATH=$prefix/lib "$work/first_program_pc" | tee "$work/pc.out"
 cmp "$work/cmake.out" "$work/pc.out"
 # The installed CLI runs a scene.
 "$prefix/bin/tumble" validate "$source/scenes/demo.yaml" >/dev/null
+# The installed Python package (when the build made one) imports from the prefix alone, with its
+# compiled module and its environments, and steps a batch.
+if [[ -d $build/python/tumble ]]; then
+  site=$(find "$prefix" -type d -path '*/site-packages' | head -n1)
+  [[ -n $site && -f $site/tumble/__init__.py && -f $site/tumble/envs.py ]] ||
+    { echo "the Python package was not installed"; exit 1; }
+  (cd "$work" && PYTHONPATH=$site "${PYTHON:-python3}" -c '
+import tumble, tumble.envs
+assert tumble.__file__.startswith("'"$site"'"), tumble.__file__
+env = tumble.envs.PushBoxEnv(num_envs=2, threads=1)
+obs, _ = env.reset(seed=0)
+obs, *_ = env.step(env.action_space.sample())
+print("python package from the prefix:", obs.shape)
+')
+fi
 echo "install test passed"
