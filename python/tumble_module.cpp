@@ -93,6 +93,55 @@ void copy_checked(const py::object& given, std::span<Real> out, int worlds, int 
   std::copy(in, in + out.size(), out.begin());
 }
 
+// A Python or numpy integer (anything with __index__, but not bool) as a C++ integer of the
+// given range, or TypeError / `out_of_range`'s error naming `what`.
+py::int_ exact_integer(const py::handle h, const std::string& what) {
+  if (py::isinstance<py::bool_>(h))
+    throw py::type_error(what + " must be integers, got a bool");
+  try {
+    return py::module_::import("operator").attr("index")(h);
+  } catch (const py::error_already_set&) {
+    throw py::type_error(what + " must be integers, got " + py::repr(h).cast<std::string>());
+  }
+}
+
+std::vector<int> world_ids(const py::object& ids, int worlds) {
+  std::vector<int> list;
+  for (const py::handle h : ids) {
+    const py::int_ value = exact_integer(h, "reset: world ids");
+    const std::string text = py::repr(value).cast<std::string>();
+    long long id = -1;
+    try {
+      id = value.cast<long long>();
+    } catch (const py::cast_error&) {
+      throw py::index_error("reset: world " + text + " out of range for a batch of " +
+                            std::to_string(worlds));
+    }
+    if (id < 0 || id >= worlds)
+      throw py::index_error("reset: world " + text + " out of range for a batch of " +
+                            std::to_string(worlds));
+    list.push_back(static_cast<int>(id));
+  }
+  return list;
+}
+
+// A seed: a whole number from 0 to 2^64 - 1.
+std::uint64_t seed_value(const py::handle h, const std::string& what) {
+  const py::int_ value = exact_integer(h, what);
+  const py::object zero = py::int_(0), limit = py::int_(std::uint64_t(-1));
+  if (value < zero || value > limit)
+    throw py::value_error(what + ": " + py::repr(value).cast<std::string>() +
+                          " is not a seed from 0 to 2**64 - 1");
+  return value.cast<std::uint64_t>();
+}
+
+std::vector<std::uint64_t> seed_list(const py::object& seeds) {
+  std::vector<std::uint64_t> list;
+  for (const py::handle h : seeds)
+    list.push_back(seed_value(h, "reset: seeds"));
+  return list;
+}
+
 int checked_world(const BatchWorld& batch, int index) {
   if (index < 0 || index >= batch.size())
     throw py::index_error("world " + std::to_string(index) + " out of range for a batch of " +
@@ -102,7 +151,7 @@ int checked_world(const BatchWorld& batch, int index) {
 
 }  // namespace
 
-PYBIND11_MODULE(tumble, m) {
+PYBIND11_MODULE(_tumble, m) {
   m.doc() = "tumble: rigid-body physics centred on collision detection (docs/python.md)";
   m.attr("__version__") = tumble::kVersion;
 
@@ -140,6 +189,16 @@ PYBIND11_MODULE(tumble, m) {
         return std::const_pointer_cast<tumble::Scene>(tumble::load_scene_text(yaml, name));
       },
       py::arg("yaml"), py::arg("name") = "<text>");
+
+  m.def(
+      "randomized",
+      [](const py::object& scene, const py::object& seed) {
+        return std::make_shared<tumble::Scene>(
+            tumble::randomized(*scene_from(scene), seed_value(seed, "seed")));
+      },
+      py::arg("scene"), py::arg("seed"),
+      "The scene with the draws of its randomize block for `seed` (what a BatchWorld world with "
+      "that seed steps); a World of it is that world.");
 
   py::class_<BodyId>(m, "BodyId")
       .def_readonly("index", &BodyId::index)
@@ -249,10 +308,12 @@ PYBIND11_MODULE(tumble, m) {
           py::arg("origin"), py::arg("direction"), py::arg("max_distance"));
 
   py::class_<BatchWorld>(m, "BatchWorld")
-      .def(py::init([](const py::object& scene, int num_worlds, int threads) {
-             return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads);
-           }),
-           py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0)
+      .def(py::init(
+               [](const py::object& scene, int num_worlds, int threads, const py::object& seed) {
+                 return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads,
+                                                     seed_value(seed, "seed"));
+               }),
+           py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0, py::arg("seed") = 0)
       .def_property_readonly("num_worlds", &BatchWorld::size)
       .def_property_readonly("body_count", &BatchWorld::body_count)
       .def_property_readonly("threads", &BatchWorld::threads)
@@ -299,35 +360,31 @@ PYBIND11_MODULE(tumble, m) {
           "step", [](BatchWorld& b, int n) { b.step(n); }, py::arg("n") = 1)
       .def(
           "reset",
-          [](BatchWorld& b, const py::object& ids) {
+          [](BatchWorld& b, const py::object& ids, const py::object& seeds) {
+            std::vector<int> list;
             if (ids.is_none()) {
-              b.reset();
+              for (int w = 0; w < b.size(); ++w)
+                list.push_back(w);
+            } else {
+              list = world_ids(ids, b.size());
+            }
+            if (seeds.is_none()) {
+              b.reset(list);
               return;
             }
-            std::vector<int> list;
-            // Anything with __index__ (Python and numpy integers), but not bool.
-            const py::object index = py::module_::import("operator").attr("index");
-            for (const py::handle h : ids) {
-              if (py::isinstance<py::bool_>(h))
-                throw py::type_error("reset: world ids must be integers, got a bool");
-              long long id = 0;
-              try {
-                id = index(h).cast<long long>();
-              } catch (const py::error_already_set&) {
-                throw py::type_error("reset: world ids must be integers, got " +
-                                     py::repr(h).cast<std::string>());
-              } catch (const py::cast_error&) {
-                throw py::index_error("reset: world " + py::repr(h).cast<std::string>() +
-                                      " out of range for a batch of " + std::to_string(b.size()));
-              }
-              if (id < 0 || id >= b.size())
-                throw py::index_error("reset: world " + std::to_string(id) +
-                                      " out of range for a batch of " + std::to_string(b.size()));
-              list.push_back(static_cast<int>(id));
-            }
-            b.reset(list);
+            const std::vector<std::uint64_t> drawn = seed_list(seeds);
+            if (drawn.size() != list.size())
+              throw py::value_error("reset: " + std::to_string(drawn.size()) + " seeds for " +
+                                    std::to_string(list.size()) + " worlds; give one per world");
+            b.reset(list, drawn);
           },
-          py::arg("ids") = py::none(), "Resets the worlds listed (all when None).")
+          py::arg("ids") = py::none(), py::arg("seeds") = py::none(),
+          "Resets the worlds listed (all when None). A scene with a randomize block draws each "
+          "world anew: its next draw, or the draw of its seed in `seeds`.")
+      .def(
+          "seed", [](const BatchWorld& b, int i) { return b.seed(checked_world(b, i)); },
+          py::arg("world"),
+          "The seed of the world's current draw (tumble.randomized(scene, seed)).")
       .def(
           "contact_forces",
           [](py::object self) {
