@@ -11,6 +11,7 @@
 #include "apps/bullet_bridge.hpp"
 #include "apps/compare_command.hpp"
 #include "apps/number_format.hpp"
+#include "apps/spread.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -18,38 +19,6 @@ namespace tumble::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-struct Spread {
-  double min = 0, median = 0, max = 0, mean = 0;
-};
-
-Spread spread_of(std::vector<double> v) {
-  Spread s;
-  if (v.empty())
-    return s;
-  std::sort(v.begin(), v.end());
-  s.min = v.front();
-  s.max = v.back();
-  const std::size_t n = v.size();
-  s.median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-  double total = 0;
-  for (double x : v)
-    total += x;
-  s.mean = total / static_cast<double>(n);
-  return s;
-}
-
-// Bullet as its own benchmark demos run it: one internal step per step, 10 iterations, split
-// impulse. Matching tumble's substeps would make Bullet collide four times per step and so
-// flatter tumble; the accuracy each buys is in the reports (docs/reports/).
-BulletSettings bench_bullet_settings(const Scene& scene) {
-  BulletSettings s;
-  s.dt = scene.world.dt;
-  s.substeps = 1;
-  s.iterations = 10;
-  s.restitution_threshold = scene.world.restitution_threshold;
-  return s;
-}
 
 std::string ms(double seconds) {
   char buffer[32];
@@ -143,7 +112,7 @@ int bench_command(const BenchOptions& options) {
             }
             runs.memory = world.memory();
           } else if (with_bullet) {
-            BulletSettings settings = bench_bullet_settings(*scene);
+            BulletSettings settings = benchmark_bullet_settings(*scene);
             settings.sleeping = sleeping;
             BulletWorld bullet(*scene, settings);
             for (std::int64_t k = 1; k <= steps; ++k) {

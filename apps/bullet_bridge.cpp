@@ -26,6 +26,15 @@ const char* bullet_solver_name(BulletSolver solver) {
   return "bullet_si";
 }
 
+BulletSettings benchmark_bullet_settings(const Scene& scene) {
+  BulletSettings s;
+  s.dt = scene.world.dt;
+  s.substeps = 1;
+  s.iterations = 10;
+  s.restitution_threshold = scene.world.restitution_threshold;
+  return s;
+}
+
 BulletSettings matching_bullet_settings(const Scene& scene) {
   BulletSettings s;
   s.dt = scene.world.dt;

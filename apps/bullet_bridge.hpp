@@ -73,6 +73,11 @@ struct BulletSettings {
 // position error adds energy; docs/oracle.md).
 BulletSettings matching_bullet_settings(const Scene& scene);
 
+// Bullet as its own benchmark demos run it: one internal step per step, 10 iterations, split
+// impulse. Matching tumble's substeps would make Bullet collide four times per step and so
+// flatter tumble; the accuracy each buys is in the reports (docs/reports/).
+BulletSettings benchmark_bullet_settings(const Scene& scene);
+
 class BulletWorld {
  public:
   // Throws std::runtime_error when the build has no Bullet.

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <map>
 
+#include "apps/bench_batch_command.hpp"
 #include "apps/bench_command.hpp"
 #include "apps/ccd_command.hpp"
 #include "apps/compare_command.hpp"
@@ -154,6 +155,36 @@ int main(int argc, char** argv) {
                    "against the first)")
       ->delimiter(',')
       ->check(CLI::Range(1, 1024));
+  tumble::app::BenchBatchOptions bench_batch;
+  CLI::App* bench_batch_cmd = app.add_subcommand(
+      "bench-batch",
+      "Time batches of worlds (RL metrics: throughput, latency, scaling, memory, stages) "
+      "against MuJoCo and Bullet");
+  bench_batch_cmd->add_option("scene", bench_batch.scene,
+                              "Scene file (default scenes/rl/boxes20.yaml)");
+  bench_batch_cmd
+      ->add_option("--worlds", bench_batch.worlds,
+                   "World counts, comma-separated (default 1,16,256,1024,4096)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1000000));
+  bench_batch_cmd
+      ->add_option("--threads", bench_batch.threads, "Thread counts, comma-separated (default 1,2)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1024));
+  bench_batch_cmd->add_option("--steps", bench_batch.steps, "Batch steps per run (default 60)")
+      ->check(CLI::Range(1, 1000000));
+  bench_batch_cmd->add_option("--repetitions", bench_batch.repetitions, "Runs per engine")
+      ->check(CLI::Range(1, 1000));
+  bench_batch_cmd
+      ->add_option("--peers", bench_batch.peers,
+                   "Peers, comma-separated: mujoco, bullet, none (default mujoco,bullet)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"mujoco", "bullet", "none"}));
+  bench_batch_cmd
+      ->add_option("--peer-max-worlds", bench_batch.peer_max_worlds,
+                   "Largest world count the peers run (default 1024)")
+      ->check(CLI::Range(1, 1000000));
+  bench_batch_cmd->add_option("-o,--output", bench_batch.output, "CSV file to write");
   tumble::app::RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Simulate a scene and render it off-screen to an MP4 video and/or PNG frames");
@@ -217,6 +248,8 @@ int main(int argc, char** argv) {
       return tumble::app::report_command(report);
     if (bench_cmd->parsed())
       return tumble::app::bench_command(bench);
+    if (bench_batch_cmd->parsed())
+      return tumble::app::bench_batch_command(bench_batch);
     if (query_cmd->parsed())
       return tumble::app::query_command(query_file);
   } catch (const tumble::SceneError& e) {

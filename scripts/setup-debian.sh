@@ -18,6 +18,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # optional parts: off-screen renderer, video, Bullet oracle, plots
   libosmesa6-dev libpng-dev ffmpeg libbullet-dev gnuplot-nox
+  # the MuJoCo peer of the batch benchmark (apps/mujoco_bridge.cpp)
+  libmujoco-dev
 )
 
 as_root=()
