@@ -14,6 +14,7 @@
 #include "apps/render_command.hpp"
 #include "apps/report_command.hpp"
 #include "apps/run_command.hpp"
+#include "apps/sim2real_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -185,6 +186,22 @@ int main(int argc, char** argv) {
                    "Largest world count the peers run (default 1024)")
       ->check(CLI::Range(1, 1000000));
   bench_batch_cmd->add_option("-o,--output", bench_batch.output, "CSV file to write");
+  tumble::app::Sim2RealOptions sim2real;
+  CLI::App* sim2real_cmd =
+      app.add_subcommand("sim2real",
+                         "Randomized worlds in training against deployment geometry: step times, "
+                         "trajectory gap, and whether the size noise covers it");
+  sim2real_cmd->add_option("scene", sim2real.scene, "Scene file with train_shape bodies")
+      ->required();
+  sim2real_cmd->add_option("--worlds", sim2real.worlds, "Randomized worlds (default 64)")
+      ->check(CLI::Range(1, 1000000));
+  sim2real_cmd->add_option("--steps", sim2real.steps, "Steps (default: the scene's duration)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+  sim2real_cmd->add_option("--threads", sim2real.threads, "Threads (default: the cores)")
+      ->check(CLI::Range(1, 1024));
+  sim2real_cmd->add_option("--seed", sim2real.seed, "The batches' seed (default 0)");
+  sim2real_cmd->add_option("-o,--output", sim2real.output,
+                           "Directory for sim2real.csv, sim2real.md and sim2real.png");
   tumble::app::RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Simulate a scene and render it off-screen to an MP4 video and/or PNG frames");
@@ -248,6 +265,8 @@ int main(int argc, char** argv) {
       return tumble::app::report_command(report);
     if (bench_cmd->parsed())
       return tumble::app::bench_command(bench);
+    if (sim2real_cmd->parsed())
+      return tumble::app::sim2real_command(sim2real);
     if (bench_batch_cmd->parsed())
       return tumble::app::bench_batch_command(bench_batch);
     if (query_cmd->parsed())

@@ -17,6 +17,7 @@
 #include "apps/compare_command.hpp"
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
+#include "apps/plot_quote.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -181,28 +182,6 @@ bool analytic_reference(const Scene& scene, Real coarse_dt, const std::vector<st
 
 std::string label(const Config& c) {
   return c.engine + " " + c.solver + " " + c.family;
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char ch : s) {
-    if (ch == '\'')
-      q += "'\\''";
-    else
-      q += ch;
-  }
-  return q + "'";
-}
-
-// Gnuplot's single-quoted strings take no escapes; a quote is written twice.
-std::string gnuplot_quote(const std::string& s) {
-  std::string q = "'";
-  for (char ch : s) {
-    q += ch;
-    if (ch == '\'')
-      q += '\'';
-  }
-  return q + "'";
 }
 
 }  // namespace

@@ -164,7 +164,8 @@ struct BatchWorld::Impl {
       world.reset();
       return;
     }
-    world = World(compile(std::make_shared<const Scene>(randomized(model->scene(), seed))));
+    world =
+        World(compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed))));
     world.set_threads(1);
   }
 
@@ -199,7 +200,7 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   Impl& m = *impl_;
   m.model = std::move(model);
   m.bodies = static_cast<int>(m.model->body_count());
-  m.randomizing = m.model->scene().randomize.any();
+  m.randomizing = m.model->described_scene().randomize.any();
   m.base_seed = seed;
   m.seeds.assign(std::size_t(num_worlds), 0);
   m.draws.assign(std::size_t(num_worlds), 0);

@@ -1,5 +1,6 @@
 #include "engine/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -29,6 +30,18 @@ std::shared_ptr<const Model> compile(std::shared_ptr<const Scene> scene) {
 
 std::shared_ptr<const Model> Model::build(std::shared_ptr<const Scene> scene) {
   auto model = std::make_shared<Model>();
+  model->described_ = scene;
+  // Training geometry: each body with a training shape collides with it (its mass properties
+  // stay those of its detailed shape, already in the description).
+  if (scene->world.geometry == Geometry::train &&
+      std::any_of(scene->bodies.begin(), scene->bodies.end(),
+                  [](const BodyDesc& b) { return b.train_shape.has_value(); })) {
+    auto trained = std::make_shared<Scene>(*scene);
+    for (BodyDesc& b : trained->bodies)
+      if (b.train_shape)
+        b.shape = *std::exchange(b.train_shape, std::nullopt);
+    scene = std::move(trained);
+  }
   if (scene->materials.empty()) {
     auto with_default = std::make_shared<Scene>(*scene);
     with_default->materials.push_back(Material{"default"});
@@ -105,14 +118,19 @@ std::shared_ptr<const Model> Model::with_body(const BodyDesc& desc, std::size_t 
   auto model = std::make_shared<Model>();
   model->removed_ = removed_;
   model->removed_.resize(scene->bodies.size(), 0);
+  BodyDesc placed = desc;
+  if (scene->world.geometry == Geometry::train && placed.train_shape)
+    placed.shape = *std::exchange(placed.train_shape, std::nullopt);
   if (slot < scene->bodies.size()) {
-    scene->bodies[slot] = desc;
+    scene->bodies[slot] = placed;
     model->removed_[slot] = 0;
   } else {
-    scene->bodies.push_back(desc);
+    scene->bodies.push_back(placed);
     model->removed_.push_back(0);
   }
   model->scene_ = std::move(scene);
+  // Bodies added one by one are described by the running scene itself.
+  model->described_ = model->scene_;
   model->derive();
   return model;
 }
@@ -134,6 +152,7 @@ std::shared_ptr<const Model> Model::without_body(std::size_t slot) const {
   model->removed_.resize(scene->bodies.size(), 0);
   model->removed_[slot] = 1;
   model->scene_ = std::move(scene);
+  model->described_ = model->scene_;
   model->derive();
   return model;
 }

@@ -23,6 +23,9 @@ class Model {
   static std::shared_ptr<const Model> build(std::shared_ptr<const Scene> scene);
 
   const Scene& scene() const { return *scene_; }
+  // The scene as described, before training geometry replaced any shape: what a randomized
+  // world is drawn from (tumble/randomization.hpp), so that both geometries draw alike.
+  const Scene& described_scene() const { return *described_; }
   const std::shared_ptr<const Scene>& scene_pointer() const { return scene_; }
   std::size_t body_count() const { return masses_.size(); }
 
@@ -61,6 +64,7 @@ class Model {
   void derive();
 
   std::shared_ptr<const Scene> scene_;
+  std::shared_ptr<const Scene> described_;
   std::vector<BodyMass> masses_;
   std::vector<Real> bounding_radii_;
   std::vector<std::uint8_t> flat_shape_;

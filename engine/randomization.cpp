@@ -29,6 +29,7 @@ enum class Draw : std::uint64_t {
   size = 5,
   position = 6,
   orientation = 7,
+  train_size = 8,
 };
 
 RandomStream stream(std::uint64_t seed, Draw kind, std::size_t index) {
@@ -49,8 +50,9 @@ Real size_factor(RandomStream& s, Real sigma) {
 }
 
 // The shape with each dimension scaled by its own draw. `offset` receives how far a rebuilt
-// compound's centre of mass moved in its frame (the body moves by it so the parts stay put).
-Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset) {
+// compound's centre of mass moved in its frame (the body moves by it so the parts stay put);
+// a training shape stays in its body's frame (`in_frame`) and moves nothing.
+Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset, bool in_frame) {
   Shape out = shape;
   switch (shape.type) {
     case ShapeType::sphere:
@@ -74,15 +76,16 @@ Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset) {
       std::vector<Vec3> points(shape.hull->vertices().begin(), shape.hull->vertices().end());
       for (Vec3& p : points)
         p = p.cwiseProduct(factor);
-      return hull_from_points(points, &offset);
+      return in_frame ? hull_in_frame(points) : hull_from_points(points, &offset);
     }
     case ShapeType::compound: {
       std::vector<CompoundPart> parts = shape.compound->parts();
       for (CompoundPart& part : parts) {
         Vec3 unused = Vec3::Zero();
-        part.shape = scaled(part.shape, s, sigma, unused);
+        part.shape = scaled(part.shape, s, sigma, unused, in_frame);
       }
-      return compound_from_parts(std::move(parts), &offset);
+      return in_frame ? compound_in_frame(std::move(parts))
+                      : compound_from_parts(std::move(parts), &offset);
     }
     case ShapeType::plane:
     case ShapeType::mesh:
@@ -125,7 +128,13 @@ Scene randomized(const Scene& scene, std::uint64_t seed) {
     if (r.size_noise > 0) {
       RandomStream s = stream(seed, Draw::size, i);
       Vec3 offset = Vec3::Zero();
-      Shape shape = scaled(b.shape, s, r.size_noise, offset);
+      Shape shape = scaled(b.shape, s, r.size_noise, offset, false);
+      if (b.train_shape) {
+        // The training shape draws its own noise (its stream), in its frame.
+        RandomStream t = stream(seed, Draw::train_size, i);
+        Vec3 unused = Vec3::Zero();
+        b.train_shape = scaled(*b.train_shape, t, r.size_noise, unused, true);
+      }
       if (dynamic) {
         // Same density; the inertia changes by the difference of the two shapes' uniform-density
         // inertias, which keeps any inertia the scene gave beyond the shape's own.

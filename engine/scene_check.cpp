@@ -75,6 +75,8 @@ class Checker {
       fail("world.broadphase",
            "expected one of: auto, brute, sap, hash, bvh, lbvh, octree, "
            "kdtree, grid, hgrid");
+    if (w.geometry != Geometry::deploy && w.geometry != Geometry::train)
+      fail("world.geometry", "expected one of: deploy, train");
     if (static_cast<int>(w.ccd) > static_cast<int>(CcdMode::off))
       fail("world.ccd", "expected one of: auto, on, off");
     real(w.contact_margin, kDistance, "world.contact_margin");
@@ -144,6 +146,14 @@ class Checker {
       fail(field + ".name",
            "a name of at most 256 characters, got " + std::to_string(b.name.size()));
     shape(b.shape, field + ".shape");
+    if (b.train_shape) {
+      shape(*b.train_shape, field + ".train_shape");
+      const ShapeType t = b.train_shape->type;
+      if (!b.is_static && (t == ShapeType::plane || t == ShapeType::mesh))
+        fail(field + ".train_shape",
+             "a moving body's training shape must be bounded and convex or a compound, not a " +
+                 std::string(shape_type_name(t)));
+    }
     vector(b.position, kCoordinate, field + ".position");
     orientation(b.orientation, field + ".orientation");
     vector(b.velocity, kVelocity, field + ".velocity");

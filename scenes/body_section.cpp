@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape.hpp"
 #include "scenes/yaml_reader.hpp"
 
@@ -11,9 +13,11 @@ namespace {
 
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
-constexpr std::array<std::string_view, 13> kBodyKeys{
-    "name", "shape",   "position", "orientation", "velocity", "angular_velocity",  //
-    "mass", "density", "inertia",  "material",    "static",   "kinematic",        "fast"};
+constexpr std::array<std::string_view, 14> kBodyKeys{
+    "name", "shape",      "position", "orientation", "velocity", "angular_velocity",
+    "mass", "density",    "inertia",  "material",    "static",   "kinematic",
+    "fast", "train_shape"};
+constexpr std::array<std::string_view, 1> kFitKeys{"fit"};
 
 }  // namespace
 
@@ -59,6 +63,51 @@ void Loader::load_materials(const Entry* e, std::vector<Material>& materials) co
   }
 }
 
+// A training shape (docs/scene-format.md, "train_shape"): {fit: box | sphere | capsule | hull}
+// around the detailed shape, or a shape of its own. A primitive is centred on the body's centre
+// of mass; a hull's points and a compound's parts are in the frame of the detailed shape's own
+// points (which the centre of mass is measured from), so they are moved into the body's frame.
+Shape Loader::load_train_shape(const Entry& e, const std::string& path, const Shape& detailed,
+                               const Vec3& centre_of_mass) const {
+  const Fields f = read_map(e.value, e.mark(), path,
+                            "a shape map, or {fit: box | sphere | capsule | hull}", false);
+  if (const Entry* fit = f.find("fit")) {
+    check_known(f, kFitKeys);
+    const std::string kind =
+        read_word(*fit, child(path, "fit"), "a fit (box, sphere, capsule, hull)");
+    ShapeFit which = ShapeFit::box;
+    if (kind == "sphere")
+      which = ShapeFit::sphere;
+    else if (kind == "capsule")
+      which = ShapeFit::capsule;
+    else if (kind == "hull")
+      which = ShapeFit::hull;
+    else if (kind != "box")
+      fail(fit->mark(), child(path, "fit"),
+           "expected one of: box, sphere, capsule, hull, got " + describe(fit->value));
+    if (!detailed.is_bounded())
+      fail(fit->mark(), child(path, "fit"), "a plane is unbounded: nothing to fit around");
+    return fit_shape(detailed, which);
+  }
+  Vec3 own_centre = Vec3::Zero();
+  Shape shape = load_shape(e, path, &own_centre);
+  // From the shape's own centre of mass (where load_shape centred it) to the body's.
+  const Vec3 shift = own_centre - centre_of_mass;
+  if (shape.type == ShapeType::hull) {
+    std::vector<Vec3> points(shape.hull->vertices().begin(), shape.hull->vertices().end());
+    for (Vec3& p : points)
+      p += shift;
+    return hull_in_frame(points);
+  }
+  if (shape.type == ShapeType::compound) {
+    std::vector<CompoundPart> parts = shape.compound->parts();
+    for (CompoundPart& p : parts)
+      p.pose.translation += shift;
+    return compound_in_frame(std::move(parts));
+  }
+  return shape;
+}
+
 BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t i,
                            const MaterialIndex& materials,
                            std::optional<YAML::Mark>& name_mark) const {
@@ -100,6 +149,9 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
   }
   if (const Entry* x = f.find("fast")) {
     b.fast = read_bool(*x, at("fast"));
+  }
+  if (const Entry* x = f.find("train_shape")) {
+    b.train_shape = load_train_shape(*x, at("train_shape"), b.shape, centre_of_mass);
   }
   if (!b.shape.is_bounded() && !b.is_static) {
     const YAML::Mark where = is_static != nullptr ? is_static->mark() : shape->mark();

@@ -10,12 +10,12 @@ namespace tumble::scene_yaml {
 namespace {
 
 // clang-format off
-constexpr std::array<std::string_view, 23> kWorldKeys{
+constexpr std::array<std::string_view, 24> kWorldKeys{
     "gravity", "dt", "duration", "steps", "substeps", "max_substeps", "solver", "iterations",
     "relax_iterations", "broadphase", "ccd", "contact_recycling", "contact_margin",
     "penetration_slop", "contact_hertz", "sag_tolerance", "contact_damping_ratio",
     "max_push_velocity", "restitution_threshold", "sleeping", "sleep_speed", "sleep_time",
-    "threads"};
+    "threads", "geometry"};
 // clang-format on
 constexpr std::array<std::string_view, 3> kCameraKeys{"position", "target", "fov"};
 
@@ -122,6 +122,17 @@ void Loader::load_world(const Entry* e, WorldSettings& w) const {
       w.contact_hertz.reset();
     else
       w.contact_hertz = read_real(*x, path("contact_hertz"), kFrequency);
+  }
+  if (const Entry* x = f.find("geometry")) {
+    const std::string g = read_word(*x, path("geometry"), "a geometry (deploy, train)");
+    if (g == "deploy") {
+      w.geometry = Geometry::deploy;
+    } else if (g == "train") {
+      w.geometry = Geometry::train;
+    } else {
+      fail(x->mark(), path("geometry"),
+           "expected one of: deploy, train, got " + describe(x->value));
+    }
   }
   if (const Entry* x = f.find("threads")) {
     if (x->value.kind == Node::Kind::scalar && x->value.scalar == "auto")

@@ -241,6 +241,8 @@ class Loader {
   // `centre_of_mass` receives where the shape's centre of mass lies in the frame it was given in
   // (hulls and compounds are re-centred there); zero for every other shape.
   Shape load_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass = nullptr) const;
+  Shape load_train_shape(const Entry& e, const std::string& path, const Shape& detailed,
+                         const Vec3& centre_of_mass) const;
   Shape load_hull(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;
   Shape load_mesh(const Fields& f, const std::string& path) const;
   Shape load_compound(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;

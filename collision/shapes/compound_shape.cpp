@@ -8,7 +8,8 @@
 
 namespace tumble {
 
-CompoundShape CompoundShape::build(std::vector<CompoundPart> parts, Vec3* centre_of_mass) {
+CompoundShape CompoundShape::build(std::vector<CompoundPart> parts, Vec3* centre_of_mass,
+                                   bool recentre) {
   if (parts.empty())
     throw CompoundError("a compound needs at least one part");
   if (int(parts.size()) > kMaxParts)
@@ -50,8 +51,9 @@ CompoundShape CompoundShape::build(std::vector<CompoundPart> parts, Vec3* centre
   c.parts_ = std::move(parts);
   c.volume_ = total;
   Mat3 inertia = Mat3::Zero();  // per unit total mass
+  const Vec3 shift = recentre ? com : Vec3::Zero();
   for (CompoundPart& p : c.parts_) {
-    p.pose.translation -= com;
+    p.pose.translation -= shift;
     const Real w = tumble::volume(p.shape) / total;  // mass fraction
     const Mat3 r = p.pose.rotation.toRotationMatrix();
     const Vec3& d = p.pose.translation;

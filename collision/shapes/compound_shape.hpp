@@ -28,7 +28,10 @@ class CompoundShape {
   // the frame they were given in; the stored part poses are shifted by minus that. Throws
   // CompoundError naming the part on bad input.
   static constexpr int kMaxParts = 256;  // the part index is 8 bits of a feature id
-  static CompoundShape build(std::vector<CompoundPart> parts, Vec3* centre_of_mass = nullptr);
+  // With `recentre` false (a training shape, which stays in its body's frame) the poses are kept
+  // as given and unit_inertia() is about the frame's origin.
+  static CompoundShape build(std::vector<CompoundPart> parts, Vec3* centre_of_mass = nullptr,
+                             bool recentre = true);
 
   const std::vector<CompoundPart>& parts() const { return parts_; }
   Real volume() const { return volume_; }

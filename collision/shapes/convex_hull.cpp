@@ -117,7 +117,7 @@ std::vector<RawFacet> run_qhull(std::span<const Vec3> points) {
 
 }  // namespace
 
-ConvexHull ConvexHull::from_points(std::span<const Vec3> points) {
+ConvexHull ConvexHull::from_points(std::span<const Vec3> points, bool recentre) {
   check_solid(points);
   const std::vector<RawFacet> facets = run_qhull(points);
 
@@ -206,8 +206,9 @@ ConvexHull ConvexHull::from_points(std::span<const Vec3> points) {
   hull.centre_of_mass_offset_ = inside + centroid;
 
   // Re-centre on the centre of mass.
-  for (Vec3& v : hull.vertices_)
-    v -= hull.centre_of_mass_offset_;
+  if (recentre)
+    for (Vec3& v : hull.vertices_)
+      v -= hull.centre_of_mass_offset_;
   for (HullFace& face : hull.faces_) {
     face.offset = -std::numeric_limits<Real>::infinity();
     for (int k = 0; k < face.count; ++k)

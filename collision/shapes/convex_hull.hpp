@@ -48,8 +48,10 @@ struct HullEdge {
 class ConvexHull {
  public:
   // Builds the hull of `points` (any frame). Throws DegenerateHullError when it has no volume.
-  // The result's vertices are re-centred: vertex_local = point - centre_of_mass_offset().
-  static ConvexHull from_points(std::span<const Vec3> points);
+  // The result's vertices are re-centred: vertex_local = point - centre_of_mass_offset(), unless
+  // `recentre` is false (a training shape, which stays in its body's frame): then they stay as
+  // given, and unit_inertia() is still about the hull's own centre of mass.
+  static ConvexHull from_points(std::span<const Vec3> points, bool recentre = true);
 
   std::span<const Vec3> vertices() const { return vertices_; }
   std::span<const HullFace> faces() const { return faces_; }

@@ -47,6 +47,28 @@ Shape mesh_from_triangles(std::vector<Vec3> vertices,
   }
 }
 
+Shape hull_in_frame(std::span<const Vec3> points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite())
+      throw Error("hull_in_frame: point " + std::to_string(i) + " is not finite");
+  }
+  try {
+    return Shape::convex_hull(
+        std::make_shared<const ConvexHull>(ConvexHull::from_points(points, false)));
+  } catch (const std::exception& e) {
+    throw Error(std::string("hull_in_frame: ") + e.what());
+  }
+}
+
+Shape compound_in_frame(std::vector<CompoundPart> parts) {
+  try {
+    return Shape::compound_of(std::make_shared<const CompoundShape>(
+        CompoundShape::build(std::move(parts), nullptr, false)));
+  } catch (const std::exception& e) {
+    throw Error(std::string("compound_in_frame: ") + e.what());
+  }
+}
+
 Shape compound_from_parts(std::vector<CompoundPart> parts, Vec3* centre_of_mass) {
   try {
     return Shape::compound_of(std::make_shared<const CompoundShape>(

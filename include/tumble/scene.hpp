@@ -52,6 +52,10 @@ struct BodyDesc {
   // mass, pushes dynamic bodies, ignores contacts and gravity. `mass` and `inertia` are unused.
   bool kinematic = false;
   bool fast = false;  // always swept by continuous collision detection
+  // A simpler collision shape for training (world.geometry = train), in this body's frame: a
+  // primitive, a compound_in_frame, or fit_shape(shape, ...). The body keeps the mass, inertia
+  // and centre of mass of `shape` in either geometry.
+  std::optional<Shape> train_shape;
 };
 
 // Bodies built in code, with mass and inertia from the shape. A dynamic body of `density`

@@ -26,6 +26,8 @@ enum class BroadPhaseType : std::uint8_t {
 
 enum class SolverType : std::uint8_t { impulse, penalty };
 enum class CcdMode : std::uint8_t { automatic, on, off };
+// Which collision shape a body with a training shape (BodyDesc::train_shape) uses.
+enum class Geometry : std::uint8_t { deploy, train };
 
 struct WorldSettings {
   Vec3 gravity{0, 0, Real(-9.81)};  // m/s^2
@@ -82,6 +84,9 @@ struct WorldSettings {
   // Threads a step may use (`auto`, stored as 0: the machine's cores). The results are the same
   // bits on any count (docs/architecture.md, "Threads").
   int threads = 0;
+  // `train`: bodies with a train_shape collide with it (their mass stays their shape's); `deploy`
+  // (the default): every body collides with its detailed shape.
+  Geometry geometry = Geometry::deploy;
 };
 
 }  // namespace tumble

@@ -80,4 +80,17 @@ struct CompoundPart {
 // re-centred on its centre of mass like hull_from_points.
 Shape compound_from_parts(std::vector<CompoundPart> parts, Vec3* centre_of_mass = nullptr);
 
+// Training shapes (BodyDesc::train_shape): simpler collision geometry for a body whose mass,
+// inertia and centre of mass stay those of its detailed shape. They live in that body's frame,
+// so these builders keep the points or parts where they are given (no re-centring).
+Shape hull_in_frame(std::span<const Vec3> points);
+Shape compound_in_frame(std::vector<CompoundPart> parts);
+
+// A simple shape fitted around `detailed`, in its frame: the smallest box, sphere or capsule
+// centred on the frame's origin (the centre of mass) and aligned with its axes (the capsule along
+// the axis of largest extent) that contains the shape, or its convex hull. Round parts count by
+// their exact extent; a cylinder by 32 points on each rim. Throws tumble::Error for a plane.
+enum class ShapeFit : std::uint8_t { box, sphere, capsule, hull };
+Shape fit_shape(const Shape& detailed, ShapeFit fit);
+
 }  // namespace tumble

@@ -2,11 +2,8 @@
 // its bodies, MuJoCo rests its boxes on the plane at their half heights (a fact of the scene, not
 // of tumble), and `tumble bench-batch` runs all three engines and writes its CSV.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +11,7 @@
 
 #include "apps/bullet_bridge.hpp"
 #include "apps/mujoco_bridge.hpp"
+#include "tests/apps/command_runner.hpp"
 #include "tumble/load_scene.hpp"
 
 namespace tumble::test {
@@ -66,20 +64,11 @@ TEST(MujocoPeer, BoxesComeToRestOnThePlaneAtTheirHalfHeights) {
 TEST(BenchBatch, RunsEveryEngineAndWritesItsCsv) {
   const std::filesystem::path csv = std::filesystem::temp_directory_path() /
                                     ("tumble_bench_batch_" + std::to_string(::getpid()) + ".csv");
-  std::string command = TUMBLE_CLI;
-  command += " bench-batch ";
-  command += kBoxes.string();
-  command += " --worlds 1,3 --threads 1,2 --steps 4 --repetitions 2 -o ";
-  command += csv.string();
-  command += " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  std::array<char, 4096> buffer;
-  for (std::size_t n; (n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0;)
-    output.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  const CommandOutput run = run_tumble_command(
+      "bench-batch " + kBoxes.string() +
+      " --worlds 1,3 --threads 1,2 --steps 4 --repetitions 2 -o " + csv.string());
+  const std::string& output = run.text;
+  ASSERT_EQ(run.exit_code, 0) << output;
   EXPECT_NE(output.find("Where a batch step goes: 3 worlds"), std::string::npos) << output;
   std::ifstream in(csv);
   std::string line;
