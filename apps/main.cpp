@@ -74,6 +74,8 @@ int main(int argc, char** argv) {
                    "Trajectory file: csv (trajectory.csv), npy (trajectory.npy: float64 "
                    "[records, bodies, 13]) or both")
       ->check(CLI::IsMember({"csv", "npy", "both"}));
+  run_cmd->add_flag("--static-bodies", run.static_bodies,
+                    "Also write static bodies in the trajectory (left out: they never move)");
   run_cmd->add_flag("--contacts", run.contacts,
                     "Also write contacts.csv: every contact point of every recorded step");
 

@@ -26,15 +26,16 @@ std::string NpyTrajectoryWriter::header(std::int64_t records, std::size_t bodies
   return out + dict;
 }
 
-NpyTrajectoryWriter::NpyTrajectoryWriter(const std::filesystem::path& path, std::size_t bodies)
-    : file_(path), bodies_(bodies) {
+NpyTrajectoryWriter::NpyTrajectoryWriter(const std::filesystem::path& path, std::vector<int> bodies)
+    : file_(path), bodies_(std::move(bodies)) {
   // A placeholder of the final header's size; finish() writes the real shape over it.
-  file_.stream() << header(0, bodies_, kHeaderSize);
+  file_.stream() << header(0, bodies_.size(), kHeaderSize);
 }
 
 void NpyTrajectoryWriter::record(const State& state) {
   std::ostream& out = file_.stream();
-  for (const BodyState& b : state.bodies) {
+  for (const int index : bodies_) {
+    const BodyState& b = state.bodies[std::size_t(index)];
     const double values[13] = {
         b.position.x(),        b.position.y(),    b.position.z(),         b.orientation.w(),
         b.orientation.x(),     b.orientation.y(), b.orientation.z(),      b.velocity.x(),
@@ -48,7 +49,7 @@ void NpyTrajectoryWriter::record(const State& state) {
 void NpyTrajectoryWriter::finish() {
   std::ostream& out = file_.stream();
   out.seekp(0);
-  out << header(records_, bodies_, kHeaderSize);
+  out << header(records_, bodies_.size(), kHeaderSize);
   out.seekp(0, std::ios::end);
   file_.commit();
 }

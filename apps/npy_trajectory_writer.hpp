@@ -1,11 +1,13 @@
 // Trajectory as a NumPy .npy file (format version 1.0: the magic string, a little-endian header
 // length, a Python dict literal with descr '<f8', fortran_order False and the shape, then the
-// data): float64 [records, bodies, 13] with px py pz qw qx qy qz vx vy vz wx wy wz per body, the
-// columns of trajectory.csv. numpy.load reads it in one line. Written atomically on finish().
+// data): float64 [records, bodies, 13] with px py pz qw qx qy qz vx vy vz wx wy wz per listed
+// body (summary.json's trajectory_bodies), the columns of trajectory.csv. numpy.load reads it in
+// one line. Written atomically on finish().
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "apps/atomic_file.hpp"
 #include "engine/state.hpp"
@@ -14,7 +16,8 @@ namespace tumble::app {
 
 class NpyTrajectoryWriter {
  public:
-  NpyTrajectoryWriter(const std::filesystem::path& path, std::size_t bodies);
+  // `bodies`: the scene indices written, in order.
+  NpyTrajectoryWriter(const std::filesystem::path& path, std::vector<int> bodies);
   void record(const State& state);
   // Writes the final shape into the header and renames the file into place.
   void finish();
@@ -25,7 +28,7 @@ class NpyTrajectoryWriter {
 
  private:
   AtomicFile file_;
-  std::size_t bodies_;
+  std::vector<int> bodies_;
   std::int64_t records_ = 0;
 };
 

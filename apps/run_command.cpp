@@ -113,10 +113,12 @@ int run_command(const RunOptions& options) {
   std::optional<TrajectoryWriter> trajectory;
   std::optional<NpyTrajectoryWriter> trajectory_npy;
   std::optional<ContactsWriter> contacts;
+  const std::vector<int> listed = trajectory_bodies(*scene, options.static_bodies);
+  summary.set_trajectory_bodies(*scene, listed);
   if (csv)
-    trajectory.emplace(dir / "trajectory.csv", *scene);
+    trajectory.emplace(dir / "trajectory.csv", *scene, listed);
   if (npy)
-    trajectory_npy.emplace(npy_path, scene->bodies.size());
+    trajectory_npy.emplace(npy_path, listed);
   if (options.contacts)
     contacts.emplace(contacts_path);
   const auto record = [&] {

@@ -21,6 +21,8 @@ struct RunOptions {
   // Trajectory files: "csv" (trajectory.csv), "npy" (trajectory.npy) or "both".
   std::string format = "csv";
   bool contacts = false;  // also contacts.csv
+  // Static bodies in the trajectory too (they never move; left out by default).
+  bool static_bodies = false;
 };
 
 // Returns the process exit code: 0 done, 1 user error (message on stderr), 130 interrupted.

@@ -68,6 +68,12 @@ std::string RunSummary::final_hash_hex() const {
   return hash_hex(final_hash_);
 }
 
+void RunSummary::set_trajectory_bodies(const Scene& scene, const std::vector<int>& bodies) {
+  trajectory_bodies_.clear();
+  for (const int i : bodies)
+    trajectory_bodies_.push_back(scene.bodies[std::size_t(i)].name);
+}
+
 std::string RunSummary::to_json() const {
   using nlohmann::json;
   const WorldSettings& w = scene_.world;
@@ -107,40 +113,42 @@ std::string RunSummary::to_json() const {
         totals_.solve_phase_seconds[std::size_t(i)];
   stages[std::string(stage_name(Stage::solve))]["phases"] = phases;
   const double per_step = steps_ > 0 ? wall_seconds_ / static_cast<double>(steps_) : 0.0;
-  json summary = {{"tumble_version", "0.1.0"},
-                  {"scene", scene_path_.string()},
-                  {"bodies", scene_.bodies.size()},
-                  {"settings", settings},
-                  {"simulated_seconds", final_time_},
-                  {"wall_seconds", wall_seconds_},
-                  {"wall_seconds_per_step", per_step},
-                  {"stages", stages},
-                  {"stage_seconds_total", stage_total},
-                  {"counts",
-                   {{"candidate_pairs", totals_.candidate_pairs},
-                    {"touching_pairs", totals_.touching_pairs},
-                    {"recycled_pairs", totals_.recycled_pairs},
-                    {"recomputed_pairs", totals_.recomputed_pairs},
-                    {"axis_cache_tries", totals_.axis_cache_tries},
-                    {"axis_cache_hits", totals_.axis_cache_hits},
-                    {"gjk_warm_starts", totals_.gjk_warm_starts},
-                    {"contact_points", totals_.contact_points},
-                    {"max_contact_points_in_a_step", max_contact_points_},
-                    {"solver_iterations", totals_.solver_iterations},
-                    {"ccd_swept_bodies", totals_.swept_bodies},
-                    {"ccd_stopped_bodies", totals_.stopped_bodies},
-                    {"ccd_candidate_pairs", totals_.ccd_candidate_pairs}}},
-                  {"energy",
-                   {{"initial",
-                     {{"kinetic", initial_kinetic_},
-                      {"potential", initial_potential_},
-                      {"total", initial_kinetic_ + initial_potential_}}},
-                    {"final",
-                     {{"kinetic", final_kinetic_},
-                      {"potential", final_potential_},
-                      {"total", final_kinetic_ + final_potential_}}}}},
-                  {"final_state_hash", final_hash_hex()},
-                  {"outputs", {{"trajectory", trajectory_.string()}}}};
+  json summary = {
+      {"tumble_version", "0.1.0"},
+      {"scene", scene_path_.string()},
+      {"bodies", scene_.bodies.size()},
+      {"settings", settings},
+      {"simulated_seconds", final_time_},
+      {"wall_seconds", wall_seconds_},
+      {"wall_seconds_per_step", per_step},
+      {"stages", stages},
+      {"stage_seconds_total", stage_total},
+      {"counts",
+       {{"candidate_pairs", totals_.candidate_pairs},
+        {"touching_pairs", totals_.touching_pairs},
+        {"recycled_pairs", totals_.recycled_pairs},
+        {"recomputed_pairs", totals_.recomputed_pairs},
+        {"axis_cache_tries", totals_.axis_cache_tries},
+        {"axis_cache_hits", totals_.axis_cache_hits},
+        {"gjk_warm_starts", totals_.gjk_warm_starts},
+        {"contact_points", totals_.contact_points},
+        {"max_contact_points_in_a_step", max_contact_points_},
+        {"solver_iterations", totals_.solver_iterations},
+        {"ccd_swept_bodies", totals_.swept_bodies},
+        {"ccd_stopped_bodies", totals_.stopped_bodies},
+        {"ccd_candidate_pairs", totals_.ccd_candidate_pairs}}},
+      {"energy",
+       {{"initial",
+         {{"kinetic", initial_kinetic_},
+          {"potential", initial_potential_},
+          {"total", initial_kinetic_ + initial_potential_}}},
+        {"final",
+         {{"kinetic", final_kinetic_},
+          {"potential", final_potential_},
+          {"total", final_kinetic_ + final_potential_}}}}},
+      {"final_state_hash", final_hash_hex()},
+      {"outputs",
+       {{"trajectory", trajectory_.string()}, {"trajectory_bodies", trajectory_bodies_}}}};
   return summary.dump(2);
 }
 

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "engine/simulation.hpp"
 #include "engine/step_statistics.hpp"
@@ -20,6 +21,8 @@ class RunSummary {
               const std::filesystem::path& trajectory);
   std::string to_json() const;
   std::string final_hash_hex() const;
+  // The names of the bodies the trajectory lists, in its order (trajectory.npy's second axis).
+  void set_trajectory_bodies(const Scene& scene, const std::vector<int>& bodies);
 
  private:
   const Scene& scene_;
@@ -40,6 +43,7 @@ class RunSummary {
   std::uint64_t final_hash_ = 0;
   Real final_time_ = 0;
   std::filesystem::path trajectory_;
+  std::vector<std::string> trajectory_bodies_;
 };
 
 std::string hash_hex(std::uint64_t hash);

@@ -5,14 +5,24 @@
 
 namespace tumble::app {
 
-TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, const Scene& scene)
-    : file_(path), scene_(scene) {
+std::vector<int> trajectory_bodies(const Scene& scene, bool with_static) {
+  std::vector<int> bodies;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    if (with_static || !scene.bodies[i].is_static)
+      bodies.push_back(static_cast<int>(i));
+  return bodies;
+}
+
+TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, const Scene& scene,
+                                   std::vector<int> bodies)
+    : file_(path), scene_(scene), bodies_(std::move(bodies)) {
   file_.stream() << kTrajectoryHeader << '\n';
 }
 
 void TrajectoryWriter::record(const State& state) {
   std::ostream& out = file_.stream();
-  for (std::size_t i = 0; i < state.bodies.size(); ++i) {
+  for (const int index : bodies_) {
+    const auto i = std::size_t(index);
     const BodyState& b = state.bodies[i];
     write_number(out, state.time);
     out << ',';

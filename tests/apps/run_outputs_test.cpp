@@ -59,17 +59,38 @@ TEST(RunOutputs, NpyHoldsTheCsvsNumbersUnderAValidHeader) {
   const std::string header(bytes.data() + 10, header_length);
   EXPECT_NE(header.find("'descr': '<f8'"), std::string::npos) << header;
   EXPECT_NE(header.find("'fortran_order': False"), std::string::npos);
-  EXPECT_NE(header.find("'shape': (21, 11, 13)"), std::string::npos) << header;
+  // The ten boxes: the static ground is left out (it never moves).
+  EXPECT_NE(header.find("'shape': (21, 10, 13)"), std::string::npos) << header;
   EXPECT_EQ(header.back(), '\n');
-  ASSERT_EQ(bytes.size(), data_start + 21 * 11 * 13 * sizeof(double));
-  std::vector<double> data(21 * 11 * 13);
+  ASSERT_EQ(bytes.size(), data_start + 21 * 10 * 13 * sizeof(double));
+  std::vector<double> data(21 * 10 * 13);
   std::memcpy(data.data(), bytes.data() + data_start, data.size() * sizeof(double));
   const auto rows = read_csv(dir / "trajectory.csv");
-  ASSERT_EQ(rows.size(), 1u + 21 * 11);
+  ASSERT_EQ(rows.size(), 1u + 21 * 10);
   for (std::size_t r = 1; r < rows.size(); ++r) {
     for (std::size_t c = 0; c < 13; ++c)
       ASSERT_EQ(std::stod(rows[r][c + 2]), data[(r - 1) * 13 + c]) << "row " << r << " col " << c;
   }
+  fs::remove_all(dir);
+}
+
+TEST(RunOutputs, StaticBodiesOnlyWhenAskedAndNamedInTheSummary) {
+  const fs::path dir = fs::temp_directory_path() / "tumble_run_outputs_static";
+  fs::remove_all(dir);
+  const std::string scene = std::string(TUMBLE_SOURCE_DIR) + "/scenes/stack10.yaml";
+  ASSERT_EQ(run_tumble("run " + scene + " --steps 3 -q -o " + dir.string()), 0);
+  const auto without = read_csv(dir / "trajectory.csv");
+  ASSERT_EQ(without.size(), 1u + 4 * 10);
+  for (std::size_t r = 1; r < without.size(); ++r)
+    EXPECT_NE(without[r][1], "floor") << "row " << r;
+  std::ifstream summary(dir / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(summary)), {});
+  EXPECT_NE(text.find("\"trajectory_bodies\""), std::string::npos);
+  EXPECT_EQ(text.find("\"floor\""), std::string::npos) << text;
+  ASSERT_EQ(run_tumble("run " + scene + " --steps 3 -q --static-bodies -o " + dir.string()), 0);
+  const auto with = read_csv(dir / "trajectory.csv");
+  ASSERT_EQ(with.size(), 1u + 4 * 11);
+  EXPECT_EQ(with[1][1], "floor");
   fs::remove_all(dir);
 }
 
