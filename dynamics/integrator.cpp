@@ -41,6 +41,31 @@ Vec3 solve_midpoint(const Mat3& inertia, const Vec3& w1, Real h) {
   return w2;
 }
 
+// The same Newton iteration for a diagonal inertia diag(d), written out: I x is d * x, and the
+// Jacobian's off-diagonal entries reduce to h/2 w_k (d_i - d_j). A third of the general
+// version's work (no 3x3 products), for the inertia of every box, capsule and cylinder.
+Vec3 solve_midpoint_diagonal(const Vec3& d, const Vec3& w1, Real h) {
+  constexpr int kMaxIterations = 16;
+  const Real tolerance = 4 * std::numeric_limits<Real>::epsilon() * w1.norm();
+  const Real half_h = Real(0.5) * h;
+  Vec3 w2 = w1;
+  for (int i = 0; i < kMaxIterations; ++i) {
+    const Vec3 wm = Real(0.5) * (w1 + w2);
+    const Vec3 iwm = d.cwiseProduct(wm);
+    const Vec3 f = d.cwiseProduct(w2 - w1) + h * wm.cross(iwm);
+    // I + h/2 ([wm]x I - [I wm]x), entry by entry.
+    Mat3 jacobian;
+    jacobian << d.x(), half_h * wm.z() * (d.z() - d.y()), half_h * wm.y() * (d.z() - d.y()),
+        half_h * wm.z() * (d.x() - d.z()), d.y(), half_h * wm.x() * (d.x() - d.z()),
+        half_h * wm.y() * (d.y() - d.x()), half_h * wm.x() * (d.y() - d.x()), d.z();
+    const Vec3 step = solve_3x3(jacobian, f);
+    w2 -= step;
+    if (!(step.norm() > tolerance))
+      break;
+  }
+  return w2;
+}
+
 // Rotates v by q, keeping |v| exactly. A normalised quaternion is unit only to rounding, and
 // the angular velocity goes from world to body frame and back every substep: without this,
 // the rounding of |q| compounds into a steady drift of kinetic energy (1e-12 over 2,400
@@ -64,7 +89,8 @@ void integrate_velocity(BodyState& s, const BodyMass& m, const Vec3& gravity, Re
   if (s.angular_velocity.isZero(0))
     return;  // wm = 0: no gyroscopic change, and no carry
   const Vec3 w1 = rotate_keeping_length(s.orientation.conjugate(), s.angular_velocity);
-  const Vec3 w2 = solve_midpoint(m.inertia, w1, h);
+  const Vec3 w2 = m.is_diagonal ? solve_midpoint_diagonal(m.inertia.diagonal(), w1, h)
+                                : solve_midpoint(m.inertia, w1, h);
   carry.half_change_body = Real(0.5) * (w2 - w1);
   s.angular_velocity = rotate_keeping_length(s.orientation, w2);
 }
