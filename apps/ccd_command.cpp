@@ -42,6 +42,9 @@ double parse_number(const std::string& text, const std::filesystem::path& file, 
 }
 
 std::vector<Query> read_queries(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::status(file, ec).type() != std::filesystem::file_type::regular)
+    throw std::runtime_error(file.string() + ": cannot open (not a regular file)");
   std::ifstream in(file);
   if (!in)
     throw std::runtime_error(file.string() + ": cannot open");
@@ -100,6 +103,10 @@ std::vector<Query> read_queries(const std::filesystem::path& file) {
 
 int ccd_command(const CcdOptions& options) {
   std::vector<Query> queries = read_queries(options.file);
+  if (queries.empty())
+    throw std::runtime_error(options.file.string() +
+                             ": no queries (expected rows of 7 comma-separated fields, 8 rows "
+                             "per query)");
   const bool vertex_face = options.kind == "vf";
   if (vertex_face && options.reverse_faces) {
     for (Query& q : queries) {

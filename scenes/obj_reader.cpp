@@ -4,12 +4,57 @@
 #define TINYOBJLOADER_USE_DOUBLE
 #include <tiny_obj_loader.h>
 
+#include <charconv>
+#include <cmath>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 namespace tumble {
+namespace {
+
+// tinyobjloader reads a coordinate it cannot parse ("nan", "abc") as 0 and wraps an index too
+// large for an int: the records it would misread are checked first, each refused with its line.
+void check_records(const std::string& text, const std::string& name) {
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    std::istringstream fields(line);
+    std::string tag;
+    fields >> tag;
+    const auto refuse = [&](const std::string& why) {
+      throw ObjError("cannot read OBJ file '" + name + "': line " + std::to_string(number) + ": " +
+                     why);
+    };
+    if (tag == "v") {
+      int count = 0;
+      for (std::string token; fields >> token && count < 3; ++count) {
+        double value = 0;
+        const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+        if (error != std::errc() || end != token.data() + token.size() || !std::isfinite(value))
+          refuse("vertex coordinate " + std::to_string(count + 1) + " is not a finite number");
+      }
+      if (count < 3)
+        refuse("a vertex needs three coordinates");
+    } else if (tag == "f") {
+      for (std::string token; fields >> token;) {
+        const std::string first = token.substr(0, token.find('/'));
+        long long index = 0;
+        const auto [end, error] = std::from_chars(first.data(), first.data() + first.size(), index);
+        if (error != std::errc() || end != first.data() + first.size() || index == 0 ||
+            index > 2147483647LL || index < -2147483647LL)
+          refuse("face vertex '" + first +
+                 "' is not a vertex number (1 to 2147483647, or "
+                 "negative to count back)");
+      }
+    }
+  }
+}
+
+}  // namespace
 
 ObjMesh read_obj_string(const std::string& text, const std::string& name) {
+  check_records(text, name);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
@@ -46,6 +91,9 @@ ObjMesh read_obj_string(const std::string& text, const std::string& name) {
 }
 
 ObjMesh read_obj_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::status(path, ec).type() != std::filesystem::file_type::regular)
+    throw ObjError("cannot open OBJ file '" + path.string() + "': not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ObjError("cannot open OBJ file '" + path.string() + "'");

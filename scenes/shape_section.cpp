@@ -281,6 +281,21 @@ Shape Loader::load_compound(const Fields& f, const std::string& path, Vec3* cent
     if (shape == nullptr) {
       fail(pf.mark, child(at, "shape"), "missing required field 'shape'");
     }
+    // The part's type is checked before the part is loaded: a compound inside a compound is
+    // refused here, so an alias that makes a compound its own part ends at once instead of
+    // recursing without end.
+    if (shape->value.is_map()) {
+      const std::vector<const Node*>& kv = shape->value.items;  // keys and values, alternating
+      for (std::size_t k = 0; k + 1 < kv.size(); k += 2) {
+        const Node& key = *kv[k];
+        const Node& value = *kv[k + 1];
+        if (key.is_scalar() && key.scalar == "type" && value.is_scalar() &&
+            (value.scalar == "compound" || value.scalar == "mesh" || value.scalar == "plane"))
+          fail(shape->mark(), child(at, "shape"),
+               "a compound part must be a sphere, box, capsule, cylinder or hull, got " +
+                   value.scalar);
+      }
+    }
     CompoundPart part;
     Vec3 part_centre = Vec3::Zero();
     part.shape = load_shape(*shape, child(at, "shape"), &part_centre);

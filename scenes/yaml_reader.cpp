@@ -375,6 +375,11 @@ std::string read_file(const std::filesystem::path& path, const std::string& sour
   if (status.type() == std::filesystem::file_type::directory) {
     throw cannot_open(std::make_error_code(std::errc::is_a_directory).message());
   }
+  // A FIFO would block the read for ever and a device such as /dev/zero never ends: only
+  // regular files are scenes.
+  if (status.type() != std::filesystem::file_type::regular) {
+    throw cannot_open("not a regular file");
+  }
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {

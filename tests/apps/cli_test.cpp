@@ -249,6 +249,13 @@ TEST(Cli, CcdScoresASampleFileAndRejectsBadRows) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("bad.csv:2"), std::string::npos) << r.output;
   EXPECT_EQ(run_cli("ccd " + bad.string() + " --kind xx").exit_code, 1);
+  // An empty file or a directory has nothing to score: an error, not a score of nothing.
+  const fs::path empty = dir / "empty.csv";
+  std::ofstream(empty).flush();
+  const Result none = run_cli("ccd " + empty.string() + " --kind vf");
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_NE(none.output.find("no queries"), std::string::npos) << none.output;
+  EXPECT_EQ(run_cli("ccd " + dir.string() + " --kind vf").exit_code, 1);
 }
 
 TEST(Cli, ValidateAcceptsEveryShippedScene) {

@@ -3,6 +3,8 @@
 // specification: one row per file, and a test that fails when a file has no row (or a row no
 // file), so that no fixture goes unchecked.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <ostream>
@@ -40,6 +42,8 @@ constexpr Malformed kCases[] = {
     {"unknown_top_level_field.yaml", 4, "cameras",
      "unknown field 'cameras' at the top level; expected one of: world, materials, bodies, "
      "camera, randomize (did you mean 'camera'?)"},
+    {"compound_alias_of_itself.yaml", 4, "bodies[0].shape.parts[0].shape",
+     "a compound part must be a sphere, box, capsule, cylinder or hull, got compound"},
     {"randomize_low_above_high.yaml", 5, "randomize.friction",
      "expected [low, high] with low <= high, got [0.9, 0.1]"},
     {"randomize_unknown_field.yaml", 6, "randomize.frction",
@@ -244,6 +248,22 @@ TEST(SceneErrors, DirectoryCannotBeOpened) {
                                          std::make_error_code(std::errc::is_a_directory).message() +
                                          ")");
   }
+}
+
+// A FIFO would block the read for ever and /dev/zero never ends: neither is read at all.
+TEST(SceneErrors, OnlyRegularFilesAreRead) {
+  const std::filesystem::path fifo =
+      std::filesystem::temp_directory_path() / ("tumble_scene_fifo_" + std::to_string(::getpid()));
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::filesystem::path& path : {fifo, std::filesystem::path("/dev/zero")}) {
+    try {
+      load_scene_file(path);
+      ADD_FAILURE() << path << " was read";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove(fifo);
 }
 
 // Every spelling here must be refused as a radius; all are things yaml-cpp's own as<double>

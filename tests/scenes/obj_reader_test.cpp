@@ -1,0 +1,50 @@
+// The OBJ reader refuses what its library would misread: a coordinate that is not a finite number
+// (read as 0), a face index beyond an int (wrapped to a valid vertex), and a path that is not a
+// regular file (a FIFO blocks for ever, /dev/zero never ends).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "scenes/obj_reader.hpp"
+
+namespace tumble {
+namespace {
+
+std::string obj_error(const std::string& text) {
+  try {
+    read_obj_string(text, "test.obj");
+  } catch (const ObjError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ObjReader, RefusesRecordsTheLibraryWouldMisread) {
+  EXPECT_NE(obj_error("v nan 4 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").find("line 1: vertex coordinate 1"),
+            std::string::npos);
+  EXPECT_NE(obj_error("v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n").find("line 2: vertex coordinate 2"),
+            std::string::npos);
+  EXPECT_NE(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n")
+                .find("line 4: face vertex '99999999999999999999'"),
+            std::string::npos);
+  EXPECT_NE(obj_error("v 0 0\nf 1 1 1\n").find("three coordinates"), std::string::npos);
+  // A good file still reads, with texture and normal indices and negative (relative) indices.
+  const ObjMesh mesh =
+      read_obj_string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 -1//1\n", "good.obj");
+  ASSERT_EQ(mesh.triangles.size(), 1u);
+  EXPECT_EQ(mesh.triangles[0][2], 2);
+}
+
+TEST(ObjReader, RefusesPathsThatAreNotRegularFiles) {
+  const std::filesystem::path fifo =
+      std::filesystem::temp_directory_path() / ("tumble_obj_fifo_" + std::to_string(::getpid()));
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_THROW(read_obj_file(fifo), ObjError);
+  std::filesystem::remove(fifo);
+  EXPECT_THROW(read_obj_file("/dev/zero"), ObjError);
+}
+
+}  // namespace
+}  // namespace tumble
