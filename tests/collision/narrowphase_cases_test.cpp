@@ -128,8 +128,8 @@ struct Result {
 
 Result run(const Query& q, Real margin) {
   Result r;
-  collide(q.a.shape, pose_in_world(q.pose_a, q.a.local), q.b.shape, pose_in_world(q.pose_b, q.b.local), margin,
-          r.manifold);
+  collide(q.a.shape, pose_in_world(q.pose_a, q.a.local), q.b.shape,
+          pose_in_world(q.pose_b, q.b.local), margin, r.manifold);
   r.deepest = deepest_point(r.manifold);
   if (r.deepest >= 0)
     r.depth = r.manifold.points[r.deepest].depth;
