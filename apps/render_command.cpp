@@ -126,6 +126,11 @@ int render_command(const RenderOptions& options) {
   }
   settings.supersample = options.supersample;
   settings.shadows = options.shadows;
+  if (const std::string problem = render::render_buffer_problem(settings); !problem.empty()) {
+    std::cerr << "tumble render: --size " << options.size << " --supersample "
+              << options.supersample << ": " << problem << "\n";
+    return 1;
+  }
 
   auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
   if (options.threads)

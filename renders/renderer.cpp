@@ -421,6 +421,15 @@ struct Renderer::Impl {
   }
 };
 
+std::string render_buffer_problem(const RenderSettings& settings) {
+  const long long width = static_cast<long long>(settings.width) * settings.supersample;
+  const long long height = static_cast<long long>(settings.height) * settings.supersample;
+  if (width > kMaxBufferSide || height > kMaxBufferSide)
+    return "the supersampled image, " + std::to_string(width) + "x" + std::to_string(height) +
+           ", exceeds OSMesa's 16384 pixels a side: lower --size or --supersample";
+  return "";
+}
+
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
                    std::span<const std::uint8_t> hidden)
     : impl_(std::make_unique<Impl>(scene, settings)) {
@@ -432,6 +441,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
   }
   if (settings.supersample < 1 || settings.supersample > 4)
     throw std::invalid_argument("supersample must be 1..4");
+  const std::string too_large = render_buffer_problem(settings);
+  if (!too_large.empty())
+    throw std::invalid_argument(too_large);
   m.buffer_width = settings.width * settings.supersample;
   m.buffer_height = settings.height * settings.supersample;
   m.buffer.resize(static_cast<std::size_t>(m.buffer_width) * m.buffer_height * 4);

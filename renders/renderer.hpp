@@ -47,6 +47,13 @@ struct RenderSettings {
   void enable(Overlay o) { overlays |= 1u << static_cast<int>(o); }
 };
 
+// The largest drawing buffer side OSMesa's software rasteriser takes (MAX_WIDTH and MAX_HEIGHT of
+// Mesa's src/mesa/main/config.h); beyond it OSMesa crashes instead of failing. At 4 bytes a pixel
+// the largest buffer is then 1 GiB.
+inline constexpr int kMaxBufferSide = 16384;
+// Empty when the settings' supersampled buffer fits, else why not (for messages).
+std::string render_buffer_problem(const RenderSettings& settings);
+
 class Renderer {
  public:
   // Builds the meshes of every body and an OSMesa context; `scene` must outlive the renderer.

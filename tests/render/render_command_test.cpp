@@ -154,6 +154,11 @@ TEST(RenderCommand, BadOptionsAreUserErrors) {
   r = tumble("render " + (dir / "missing.yaml").string() + " -o " + out.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("missing.yaml"), std::string::npos) << r.output;
+  // Each value in range, the supersampled buffer (24576 a side) not: refused before OSMesa,
+  // which crashed on it.
+  r = tumble("render " + scene + " --size 8192x8192 --supersample 3 -o " + out.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("exceeds OSMesa's 16384 pixels a side"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out));
 }
 
