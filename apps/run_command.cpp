@@ -130,7 +130,24 @@ int run_command(const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   record();
   for (std::int64_t k = 1; k <= steps && !g_interrupted; ++k) {
-    world.step();
+    try {
+      world.step();
+    } catch (const NonFiniteStateError& e) {
+      // The rows recorded so far are finite: keep them (under their final names), but no summary
+      // of a state that is not a number.
+      std::signal(SIGINT, previous_int);
+      std::signal(SIGTERM, previous_term);
+      if (trajectory)
+        trajectory->finish();
+      if (trajectory_npy)
+        trajectory_npy->finish();
+      if (contacts)
+        contacts->finish();
+      std::cerr << "tumble run: " << options.scene.string() << ": stopped: " << e.what()
+                << "\n  the trajectory up to the last recorded finite step is in "
+                << trajectory_path.string() << "; no summary was written\n";
+      return kExitNonFinite;
+    }
     summary.add_step(world.last_step_statistics());
     if (k % options.record_every == 0 || k == steps) {
       record();

@@ -25,7 +25,9 @@ struct RunOptions {
   bool static_bodies = false;
 };
 
-// Returns the process exit code: 0 done, 1 user error (message on stderr), 130 interrupted.
+// Returns the process exit code: 0 done, 1 user error (message on stderr), 3 a step left the
+// state non-finite (message naming the step and body), 130 interrupted.
+inline constexpr int kExitNonFinite = 3;
 int run_command(const RunOptions& options);
 
 }  // namespace tumble::app

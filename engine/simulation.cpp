@@ -16,6 +16,7 @@
 #include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/narrow_phase/sphere_batch.hpp"
 #include "engine/broad_phase_choice.hpp"
+#include "engine/number_text.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -397,10 +398,46 @@ void Simulation::move_kinematic_bodies(Real fraction, Real dt) {
 // iterates its springs instead and has no relax); continuous collision then stops fast bodies at
 // their first time of impact (engine/continuous_collision.hpp), and the impulses are kept for
 // the next step.
+namespace {
+
+// Throws NonFiniteStateError for the first body whose state a step left non-finite: a NaN
+// carried on silently would fill every later row (13 comparisons a body, nothing next to a step).
+void check_finite(const State& state, const Scene& scene, const std::vector<Transform>& start) {
+  for (std::size_t i = 0; i < state.bodies.size(); ++i) {
+    const BodyState& b = state.bodies[i];
+    const char* what = !b.position.allFinite()               ? "position"
+                       : !b.orientation.coeffs().allFinite() ? "orientation"
+                       : !b.velocity.allFinite()             ? "velocity"
+                       : !b.angular_velocity.allFinite()     ? "angular velocity"
+                                                             : nullptr;
+    if (what == nullptr)
+      continue;
+    std::string message = "step ";
+    message += std::to_string(state.step);
+    message += ": body '";
+    message += scene.bodies[i].name;
+    message += "' (index ";
+    message += std::to_string(i);
+    message += ") has a non-finite ";
+    message += what;
+    message += "; at the start of the step it was at position ";
+    message += vector_text(start[i].translation);
+    const Quat& q = start[i].rotation;
+    message += ", orientation (w x y z) (";
+    message += number_text(q.w());
+    message += ", ";
+    message += vector_text(q.vec()).substr(1);
+    throw NonFiniteStateError(message);
+  }
+}
+
+}  // namespace
+
 void Simulation::step() {
   const std::int64_t split_before = runner_->split_loops();
   runner_->run([this] { step_on_runner(); });
   last_step_.split_loops = runner_->split_loops() - split_before;
+  check_finite(state_, *scene_, shape_poses_);
 }
 
 void Simulation::step_on_runner() {

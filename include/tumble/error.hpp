@@ -26,4 +26,11 @@ struct SceneError : Error {
   std::string reason;  // the message without the "FILE:LINE:COLUMN: field '...': " prefix
 };
 
+// A step that left a body's state non-finite (a NaN or an infinity): the world stops rather than
+// carry NaN on. what() names the step, the body, the quantity and where the body was at the start
+// of that step; the world is not usable afterwards (reset it or make a new one).
+struct NonFiniteStateError : Error {
+  using Error::Error;
+};
+
 }  // namespace tumble

@@ -94,6 +94,26 @@ TEST(RunOutputs, StaticBodiesOnlyWhenAskedAndNamedInTheSummary) {
   fs::remove_all(dir);
 }
 
+TEST(RunOutputs, ANonFiniteStateStopsTheRunWithItsOwnExitCode) {
+  const fs::path dir = fs::temp_directory_path() / "tumble_run_outputs_non_finite";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path scene = dir / "needle.yaml";
+  std::ofstream(scene) << "bodies:\n"
+                          "  - {name: floor, static: true, shape: {type: plane}}\n"
+                          "  - {name: needle, shape: {type: box, half_extents: [0.5, 0.5, 0.5]},"
+                          " mass: 1, inertia: [1e-20, 1e20, 1e20], position: [0, 0, 0.6],"
+                          " angular_velocity: [1, 2, 3]}\n";
+  const fs::path out = dir / "out";
+  EXPECT_EQ(run_tumble("run " + scene.string() + " --steps 50 -q -o " + out.string()), 3);
+  // The rows before the failing step (the initial state) are kept; no summary of NaN.
+  const auto rows = read_csv(out / "trajectory.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][1], "needle");
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  fs::remove_all(dir);
+}
+
 TEST(RunOutputs, ContactsCsvHoldsTheWorldsReports) {
   const fs::path dir = fs::temp_directory_path() / "tumble_run_outputs_contacts";
   fs::remove_all(dir);
