@@ -128,6 +128,8 @@ ShapeQuery Loader::load_query(const Node& node, const YAML::Mark& mark, std::siz
 }
 
 std::vector<ShapeQuery> Loader::load_queries(std::string_view text) {
+  // The shape cache is keyed by the nodes of one document.
+  loaded_shapes_.clear();
   DocumentBuilder doc;
   const Node& root = parse(text, doc);
   YAML::Mark start;

@@ -25,6 +25,8 @@ constexpr std::array<std::string_view, 5> kTopKeys{"world", "materials", "bodies
 }  // namespace
 
 Scene Loader::load(std::string_view text) {
+  // The shape cache is keyed by the nodes of one document.
+  loaded_shapes_.clear();
   DocumentBuilder doc;
   const Node& root = parse(text, doc);
   YAML::Mark start;  // line 0, column 0: the start of the text

@@ -34,6 +34,28 @@ constexpr std::array<std::string_view, 1> kPlannedShapes{"sdf"};
 }  // namespace
 
 Shape Loader::load_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass) const {
+  const Node* key = &e.value;
+  if (const auto it = loaded_shapes_.find(key); it != loaded_shapes_.end()) {
+    if (centre_of_mass != nullptr)
+      *centre_of_mass = it->second.centre_of_mass;
+    return it->second.shape;
+  }
+  if (!shapes_loading_.insert(key).second)
+    fail(e.mark(), path, "this shape contains itself through an alias");
+  struct Done {
+    std::unordered_set<const Node*>& loading;
+    const Node* key;
+    ~Done() { loading.erase(key); }
+  } done{shapes_loading_, key};
+  Vec3 centre = Vec3::Zero();
+  Shape shape = build_shape(e, path, &centre);
+  loaded_shapes_.emplace(key, LoadedShape{shape, centre});
+  if (centre_of_mass != nullptr)
+    *centre_of_mass = centre;
+  return shape;
+}
+
+Shape Loader::build_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass) const {
   if (centre_of_mass != nullptr)
     *centre_of_mass = Vec3::Zero();
   const Fields f = read_map(e.value, e.mark(), path,

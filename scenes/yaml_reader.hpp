@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -240,7 +241,11 @@ class Loader {
                      const MaterialIndex& materials, std::optional<YAML::Mark>& name_mark) const;
   // `centre_of_mass` receives where the shape's centre of mass lies in the frame it was given in
   // (hulls and compounds are re-centred there); zero for every other shape.
+  // Cached by YAML node: every alias of a shape (`*hull`) is the shape loaded once, so a file of
+  // thousands of aliases of one large hull runs Qhull once, and a shape reached again while it
+  // is being loaded (an alias cycle) is an error.
   Shape load_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass = nullptr) const;
+  Shape build_shape(const Entry& e, const std::string& path, Vec3* centre_of_mass) const;
   Shape load_train_shape(const Entry& e, const std::string& path, const Shape& detailed,
                          const Vec3& centre_of_mass) const;
   Shape load_hull(const Fields& f, const std::string& path, Vec3* centre_of_mass) const;
@@ -259,6 +264,12 @@ class Loader {
                          Vec3* velocity, Vec3* angular_velocity) const;
 
   std::string source_;
+  struct LoadedShape {
+    Shape shape;
+    Vec3 centre_of_mass;
+  };
+  mutable std::unordered_map<const Node*, LoadedShape> loaded_shapes_;
+  mutable std::unordered_set<const Node*> shapes_loading_;
 };
 
 template <int N>
