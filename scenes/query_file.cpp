@@ -131,7 +131,7 @@ std::vector<ShapeQuery> Loader::load_queries(std::string_view text) {
   // The shape cache is keyed by the nodes of one document.
   loaded_shapes_.clear();
   DocumentBuilder doc;
-  const Node& root = parse(text, doc);
+  const Node& root = parse(text, doc, "queries");
   YAML::Mark start;
   start.line = 0;
   start.column = 0;
@@ -161,8 +161,13 @@ using scene_yaml::Loader;
 using scene_yaml::read_file;
 
 std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name) {
-  Loader loader{std::string(source_name)};
-  return loader.load_queries(yaml);
+  const std::string source(source_name);
+  Loader loader{source};
+  try {
+    return loader.load_queries(yaml);
+  } catch (const YAML::Exception& e) {
+    throw scene_yaml::yaml_syntax_error(e, source);
+  }
 }
 
 std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path) {

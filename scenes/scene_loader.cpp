@@ -28,7 +28,7 @@ Scene Loader::load(std::string_view text) {
   // The shape cache is keyed by the nodes of one document.
   loaded_shapes_.clear();
   DocumentBuilder doc;
-  const Node& root = parse(text, doc);
+  const Node& root = parse(text, doc, "bodies");
   YAML::Mark start;  // line 0, column 0: the start of the text
   start.line = 0;
   start.column = 0;
@@ -56,6 +56,7 @@ Scene Loader::load(std::string_view text) {
 
 using scene_yaml::Loader;
 using scene_yaml::read_file;
+using scene_yaml::yaml_syntax_error;
 
 Scene load_scene_string(std::string_view yaml, std::string_view source_name) {
   const std::string source(source_name);
@@ -65,9 +66,7 @@ Scene load_scene_string(std::string_view yaml, std::string_view source_name) {
     throw;
   } catch (const YAML::Exception& e) {
     // Parser errors carry yaml-cpp's own position and message; keep both.
-    const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
-    const int column = e.mark.line >= 0 ? e.mark.column + 1 : 0;
-    throw SceneError(source, line, column, "", "YAML syntax error: " + e.msg);
+    throw yaml_syntax_error(e, source);
   } catch (const std::exception& e) {
     // The contract is that callers only ever see SceneError (an allocation failure on a huge
     // file included).

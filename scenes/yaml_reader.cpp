@@ -1,7 +1,7 @@
 // The YAML scene reader's text helpers, field readers and document parsing (yaml_reader.hpp).
 #include "scenes/yaml_reader.hpp"
 
-#include "engine/number_text.hpp"
+#include <yaml-cpp/depthguard.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,6 +11,8 @@
 #include <limits>
 #include <sstream>
 #include <system_error>
+
+#include "engine/number_text.hpp"
 
 namespace tumble::scene_yaml {
 
@@ -335,7 +337,18 @@ std::string Loader::read_name(const Entry& e, const std::string& path,
 // 0.8 by PR #1319): it reports an empty document without consuming the offending token, again
 // and again, and LoadAll allocates until the process is killed. So documents are read here, at
 // most three, and one that starts where the previous one did means the parser is stuck.
-const Node& Loader::parse(std::string_view text, DocumentBuilder& doc) const {
+SceneError yaml_syntax_error(const YAML::Exception& e, const std::string& source) {
+  const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
+  const int column = e.mark.line >= 0 ? e.mark.column + 1 : 0;
+  if (const auto* deep = dynamic_cast<const YAML::DeepRecursion*>(&e))
+    return SceneError(source, line, column, "",
+                      "YAML nested deeper than " + std::to_string(deep->depth()) +
+                          " levels (lists or maps inside each other); a scene needs a few");
+  return SceneError(source, line, column, "", "YAML syntax error: " + e.msg);
+}
+
+const Node& Loader::parse(std::string_view text, DocumentBuilder& doc,
+                          std::string_view required) const {
   std::istringstream in{std::string(text)};
   YAML::Parser parser(in);
   // A third document is read only to tell a stuck parser from a genuine second document.
@@ -354,8 +367,9 @@ const Node& Loader::parse(std::string_view text, DocumentBuilder& doc) const {
          "the file holds more than one YAML document ('---'); a scene file holds exactly one");
   }
   if (doc.roots.empty() || doc.roots[0]->is_null()) {
-    fail(YAML::Mark(), "bodies",
-         "missing required field 'bodies' (the file holds no YAML document, or an empty one)");
+    fail(YAML::Mark(), std::string(required),
+         "missing required field '" + std::string(required) +
+             "' (the file holds no YAML document, or an empty one)");
   }
   return *doc.roots[0];
 }

@@ -197,6 +197,10 @@ struct MaterialIndex {
 
 YAML::Mark mark_or(const Node& n, const YAML::Mark& fallback);
 
+// yaml-cpp's exception as a SceneError naming `source`, the line and column, and what the parser
+// found (nesting beyond its depth limit said as such, not as its "bad file").
+SceneError yaml_syntax_error(const YAML::Exception& e, const std::string& source);
+
 // The whole of a scene or query file, or SceneError naming `source` and why it cannot be read.
 std::string read_file(const std::filesystem::path& path, const std::string& source);
 
@@ -207,7 +211,8 @@ class Loader {
   Scene load(std::string_view text);
 
  private:
-  const Node& parse(std::string_view text, DocumentBuilder& doc) const;
+  // `required` names the top-level field an empty document lacks ("bodies", "queries").
+  const Node& parse(std::string_view text, DocumentBuilder& doc, std::string_view required) const;
   [[noreturn]] void fail(const YAML::Mark& mark, const std::string& field,
                          const std::string& reason) const {
     const int line = mark.line >= 0 ? mark.line + 1 : 0;

@@ -111,5 +111,22 @@ queries:
   }
 }
 
+TEST(QueryFile, EmptyAndBrokenFilesAreNamedAsQueryFiles) {
+  try {
+    load_query_string("", "empty.yaml");
+    ADD_FAILURE() << "an empty query file was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field, "queries");  // not 'bodies': it is a query file
+  }
+  try {
+    load_query_string("queries: [\n", "broken.yaml");
+    ADD_FAILURE() << "a broken query file was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file, "broken.yaml");
+    EXPECT_EQ(e.line, 2);
+    EXPECT_NE(std::string(e.what()).find("broken.yaml:2:"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace tumble

@@ -44,6 +44,7 @@ constexpr Malformed kCases[] = {
      "camera, randomize (did you mean 'camera'?)"},
     {"compound_alias_of_itself.yaml", 4, "bodies[0].shape.parts[0].shape",
      "a compound part must be a sphere, box, capsule, cylinder or hull, got compound"},
+    {"nested_too_deep.yaml", 3, "", "YAML nested deeper than"},
     {"randomize_low_above_high.yaml", 5, "randomize.friction",
      "expected [low, high] with low <= high, got [0.9, 0.1]"},
     {"randomize_unknown_field.yaml", 6, "randomize.frction",
