@@ -289,7 +289,7 @@ int bench_batch_command(const BenchBatchOptions& options) {
   std::cout << "Memory (Bullet's worlds are not measured)\n\n" << memory.str() << "\n";
 
   // The per-stage split of one batch step, at the largest world count up to 1024 on the first
-  // thread count (the seed's table is 1000 worlds of 20 objects).
+  // thread count (a common size for RL: about a thousand worlds).
   std::pair<int, int> key{0, options.threads.front()};
   for (const int worlds : options.worlds)
     if (worlds <= 1024 && worlds > key.first)

@@ -67,7 +67,8 @@ def test_same_seed_same_episodes_and_seeds_give_each_world_its_own_draw():
     a, b, c = rollout(11), rollout(11), rollout(12)
     np.testing.assert_array_equal(a, b)
     assert not np.array_equal(a, c)
-    # reset(seed=s) gives world i the draw of s + i: world 1 of seed 11 is world 0 of seed 12.
+    # docs/rl.md, "Seeds": reset with s gives world i the draw s + i, so world 1 after s = 11
+    # is world 0 after s = 12.
     env = PushBoxEnv(num_envs=2, threads=1)
     first, _ = env.reset(seed=11)
     second, _ = env.reset(seed=12)
