@@ -21,6 +21,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/bullet_bridge.hpp"
 #include "apps/mujoco_bridge.hpp"
+#include "apps/number_format.hpp"
 #include "apps/spread.hpp"
 #include "engine/simulation.hpp"
 #include "tumble/batch_world.hpp"
@@ -74,15 +75,9 @@ std::string machine_name() {
   return name.str();
 }
 
-std::string fixed(double v, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
-}
-
 // 1234567 -> "1,234,567" (built forwards: GCC 12 warns falsely on insert into a short string).
 std::string thousands(double v) {
-  const std::string digits = fixed(v, 0);
+  const std::string digits = fixed_digits(v, 0);
   std::string out;
   const std::size_t lead = digits.size() % 3 == 0 ? 3 : digits.size() % 3;
   for (std::size_t i = 0; i < digits.size(); ++i) {
@@ -217,8 +212,8 @@ int bench_batch_command(const BenchBatchOptions& options) {
   const std::shared_ptr<const Scene> scene = load_scene(options.scene);
   const int bodies = static_cast<int>(scene->bodies.size());
   std::cout << "tumble bench-batch " << options.scene.string() << " (" << bodies << " bodies), "
-            << options.steps << " steps from the start, dt " << fixed(scene->world.dt, 6) << " s, "
-            << options.repetitions << " repetitions\nmachine: " << machine_name()
+            << options.steps << " steps from the start, dt " << fixed_digits(scene->world.dt, 6)
+            << " s, " << options.repetitions << " repetitions\nmachine: " << machine_name()
             << "\npeers: MuJoCo " << mujoco_version()
             << (bullet_available() ? ", Bullet 3.24" : ", no Bullet") << "\n\n";
 
@@ -258,10 +253,11 @@ int bench_batch_command(const BenchBatchOptions& options) {
   for (const Row& r : rows) {
     table << "| " << r.worlds << " | " << r.threads << " | " << r.engine << " | "
           << thousands(r.rate.median) << " (" << thousands(r.rate.min) << " / "
-          << thousands(r.rate.max) << ") | " << fixed(r.p50_ms, 3) << " | " << fixed(r.p99_ms, 3)
-          << " | " << (r.engine == "tumble" ? thousands(r.pairs_per_second) : "-") << " | "
-          << fixed(r.contacts, 1) << " | "
-          << fixed(tumble_rate[{r.worlds, r.threads}] / r.rate.median, 2) << " |\n";
+          << thousands(r.rate.max) << ") | " << fixed_digits(r.p50_ms, 3) << " | "
+          << fixed_digits(r.p99_ms, 3) << " | "
+          << (r.engine == "tumble" ? thousands(r.pairs_per_second) : "-") << " | "
+          << fixed_digits(r.contacts, 1) << " | "
+          << fixed_digits(tumble_rate[{r.worlds, r.threads}] / r.rate.median, 2) << " |\n";
   }
   std::cout << "Throughput and latency\n\n" << table.str() << "\n";
 
@@ -282,7 +278,8 @@ int bench_batch_command(const BenchBatchOptions& options) {
       continue;
     memory << "| " << engine << " | " << thousands(double(largest->bytes_per_world)) << " | "
            << (engine == std::string("tumble")
-                   ? fixed(double(largest->bytes_per_world) * largest->rate.median * 2 / 1e9, 2)
+                   ? fixed_digits(double(largest->bytes_per_world) * largest->rate.median * 2 / 1e9,
+                                  2)
                    : std::string("- (an arena, mostly untouched by a step)"))
            << " |\n";
   }
@@ -318,8 +315,8 @@ int bench_batch_command(const BenchBatchOptions& options) {
     const double other = step_ms - broad - narrow - solve;
     stages << "| stage | ms per batch step | share |\n|---|---|---|\n";
     const auto line = [&](const char* name, double v) {
-      stages << "| " << name << " | " << fixed(v, 3) << " | " << fixed(100 * v / step_ms, 0)
-             << "% |\n";
+      stages << "| " << name << " | " << fixed_digits(v, 3) << " | "
+             << fixed_digits(100 * v / step_ms, 0) << "% |\n";
     };
     line("broad phase (bounds and pairs)", broad);
     line("narrow phase", narrow);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <charconv>
+#include <cstdio>
 #include <ostream>
 #include <string>
 
@@ -20,6 +21,13 @@ inline std::string format_number(Real x) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
   return std::string(buffer, result.ptr);
+}
+
+// A fixed number of digits after the point, for the tables benchmarks print.
+inline std::string fixed_digits(double v, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+  return buffer;
 }
 
 }  // namespace tumble::app

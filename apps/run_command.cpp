@@ -127,6 +127,19 @@ int run_command(const RunOptions& options) {
     if (trajectory_npy)
       trajectory_npy->record(world.state());
   };
+  // Renames the trajectory and contact files into place, complete.
+  const auto commit_files = [&] {
+    if (trajectory)
+      trajectory->finish();
+    if (trajectory_npy)
+      trajectory_npy->finish();
+    if (contacts)
+      contacts->finish();
+  };
+  const auto restore_signals = [&] {
+    std::signal(SIGINT, previous_int);
+    std::signal(SIGTERM, previous_term);
+  };
   const auto start = std::chrono::steady_clock::now();
   record();
   for (std::int64_t k = 1; k <= steps && !g_interrupted; ++k) {
@@ -135,14 +148,8 @@ int run_command(const RunOptions& options) {
     } catch (const NonFiniteStateError& e) {
       // The rows recorded so far are finite: keep them (under their final names), but no summary
       // of a state that is not a number.
-      std::signal(SIGINT, previous_int);
-      std::signal(SIGTERM, previous_term);
-      if (trajectory)
-        trajectory->finish();
-      if (trajectory_npy)
-        trajectory_npy->finish();
-      if (contacts)
-        contacts->finish();
+      restore_signals();
+      commit_files();
       std::cerr << "tumble run: " << options.scene.string() << ": stopped: " << e.what()
                 << "\n  the trajectory up to the last recorded finite step is in "
                 << trajectory_path.string() << "; no summary was written\n";
@@ -157,8 +164,7 @@ int run_command(const RunOptions& options) {
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::signal(SIGINT, previous_int);
-  std::signal(SIGTERM, previous_term);
+  restore_signals();
   if (g_interrupted) {
     // The temporary trajectory file is removed when `trajectory` goes out of scope; files from
     // an earlier complete run stay as they were.
@@ -166,12 +172,7 @@ int run_command(const RunOptions& options) {
               << " steps; no output written\n";
     return 130;
   }
-  if (trajectory)
-    trajectory->finish();
-  if (trajectory_npy)
-    trajectory_npy->finish();
-  if (contacts)
-    contacts->finish();
+  commit_files();
   summary.finish(world, wall, trajectory_path);
   write_file_atomically(summary_path, summary.to_json() + "\n");
   if (!options.quiet) {

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "apps/atomic_file.hpp"
+#include "apps/number_format.hpp"
 #include "apps/plot_quote.hpp"
 #include "apps/spread.hpp"
 #include "tumble/batch_world.hpp"
@@ -45,19 +46,6 @@ std::vector<double> distances(const BatchWorld& a, const BatchWorld& b,
       out.push_back(d.norm());
     }
   return out;
-}
-
-double mean_of(const std::vector<double>& v) {
-  double s = 0;
-  for (const double x : v)
-    s += x;
-  return v.empty() ? 0 : s / double(v.size());
-}
-
-std::string fixed(double v, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
 }
 
 }  // namespace
@@ -95,8 +83,8 @@ int sim2real_command(const Sim2RealOptions& options) {
   const auto sample = [&](double time) {
     const std::vector<double> gap = distances(train, deploy, dynamic_bodies);
     const std::vector<double> spread = distances(train, nominal, dynamic_bodies);
-    samples.push_back(
-        {time, mean_of(gap), quantile(gap, 0.95), mean_of(spread), quantile(spread, 0.95)});
+    samples.push_back({time, spread_of(gap).mean, quantile(gap, 0.95), spread_of(spread).mean,
+                       quantile(spread, 0.95)});
   };
   sample(0);
   for (std::int64_t s = 1; s <= steps; ++s) {
@@ -116,26 +104,30 @@ int sim2real_command(const Sim2RealOptions& options) {
       << " randomized worlds, " << steps << " steps, seed " << options.seed << "; "
       << trained_bodies.size() << " bodies with a train_shape\n\n"
       << "| geometry | batch step ms, median (min / max) | per world-step us |\n|---|---|---|\n"
-      << "| deploy | " << fixed(d.median * 1e3, 3) << " (" << fixed(d.min * 1e3, 3) << " / "
-      << fixed(d.max * 1e3, 3) << ") | " << fixed(d.median * 1e6 / options.worlds, 2) << " |\n"
-      << "| train | " << fixed(t.median * 1e3, 3) << " (" << fixed(t.min * 1e3, 3) << " / "
-      << fixed(t.max * 1e3, 3) << ") | " << fixed(t.median * 1e6 / options.worlds, 2) << " |\n\n"
-      << "train / deploy step time: " << fixed(t.median / d.median, 2) << "\n\n"
+      << "| deploy | " << fixed_digits(d.median * 1e3, 3) << " (" << fixed_digits(d.min * 1e3, 3)
+      << " / " << fixed_digits(d.max * 1e3, 3) << ") | "
+      << fixed_digits(d.median * 1e6 / options.worlds, 2) << " |\n"
+      << "| train | " << fixed_digits(t.median * 1e3, 3) << " (" << fixed_digits(t.min * 1e3, 3)
+      << " / " << fixed_digits(t.max * 1e3, 3) << ") | "
+      << fixed_digits(t.median * 1e6 / options.worlds, 2) << " |\n\n"
+      << "train / deploy step time: " << fixed_digits(t.median / d.median, 2) << "\n\n"
       << "| time s | gap mean m | gap p95 m | noise spread mean m | noise spread p95 m | "
          "spread / gap (p95) |\n|---|---|---|---|---|---|\n";
   const std::size_t every = std::max<std::size_t>(1, (samples.size() - 1) / 10);
   for (std::size_t k = every; k < samples.size(); k += every) {
     const Sample& s = samples[k];
-    out << "| " << fixed(s.time, 3) << " | " << fixed(s.gap_mean, 4) << " | " << fixed(s.gap_p95, 4)
-        << " | " << fixed(s.spread_mean, 4) << " | " << fixed(s.spread_p95, 4) << " | "
-        << (s.gap_p95 > 0 ? fixed(s.spread_p95 / s.gap_p95, 2) : std::string("-")) << " |\n";
+    out << "| " << fixed_digits(s.time, 3) << " | " << fixed_digits(s.gap_mean, 4) << " | "
+        << fixed_digits(s.gap_p95, 4) << " | " << fixed_digits(s.spread_mean, 4) << " | "
+        << fixed_digits(s.spread_p95, 4) << " | "
+        << (s.gap_p95 > 0 ? fixed_digits(s.spread_p95 / s.gap_p95, 2) : std::string("-")) << " |\n";
   }
   const Sample& last = samples.back();
-  out << "\nAt the end the size noise moves training worlds " << fixed(last.spread_p95, 4)
-      << " m (p95) and the training geometry is " << fixed(last.gap_p95, 4)
+  out << "\nAt the end the size noise moves training worlds " << fixed_digits(last.spread_p95, 4)
+      << " m (p95) and the training geometry is " << fixed_digits(last.gap_p95, 4)
       << " m (p95) from the deployed one: the noise "
       << (last.spread_p95 >= last.gap_p95 ? "covers" : "does not cover") << " the gap ("
-      << (last.gap_p95 > 0 ? fixed(last.spread_p95 / last.gap_p95, 2) : std::string("-")) << ").\n";
+      << (last.gap_p95 > 0 ? fixed_digits(last.spread_p95 / last.gap_p95, 2) : std::string("-"))
+      << ").\n";
   std::cout << out.str();
 
   if (!options.output.empty()) {

@@ -156,17 +156,23 @@ struct BatchWorld::Impl {
                                  std::size_t(bodies)));
   }
 
+  // The world of the scene's draw for `seed` (randomizing), or of the model itself, on one thread.
+  World make_world(std::uint64_t seed) const {
+    World world = randomizing ? World(compile(std::make_shared<const Scene>(
+                                    randomized(model->described_scene(), seed))))
+                              : World(model);
+    world.set_threads(1);
+    return world;
+  }
+
   // World w made afresh from its draw of `seed`, or reset to the model's initial state.
   void renew(int w, std::uint64_t seed) {
     seeds[std::size_t(w)] = seed;
     World& world = worlds[std::size_t(w)];
-    if (!randomizing) {
+    if (randomizing)
+      world = make_world(seed);
+    else
       world.reset();
-      return;
-    }
-    world =
-        World(compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed))));
-    world.set_threads(1);
   }
 
   template <class Work>
@@ -206,12 +212,8 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   m.draws.assign(std::size_t(num_worlds), 0);
   m.worlds.reserve(std::size_t(num_worlds));
   for (int w = 0; w < num_worlds; ++w) {
-    m.worlds.emplace_back(m.model);
-    m.worlds.back().set_threads(1);
-    if (m.randomizing)
-      m.renew(w, draw_seed(seed, w, 0));
-    else
-      m.seeds[std::size_t(w)] = draw_seed(seed, w, 0);
+    m.seeds[std::size_t(w)] = draw_seed(seed, w, 0);
+    m.worlds.push_back(m.make_world(m.seeds[std::size_t(w)]));
   }
   const std::size_t rows = std::size_t(num_worlds) * std::size_t(m.bodies);
   m.observations.assign(rows * kObservationWidth, 0);

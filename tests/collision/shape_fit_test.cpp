@@ -10,26 +10,13 @@
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape.hpp"
+#include "tests/collision/oracle.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/error.hpp"
 #include "tumble/shape.hpp"
 
 namespace tumble {
 namespace {
-
-Vec3 unit(std::mt19937_64& rng) {
-  std::normal_distribution<Real> n(0, 1);
-  Vec3 v;
-  do {
-    v = Vec3(n(rng), n(rng), n(rng));
-  } while (v.norm() < 1e-6);
-  return v.normalized();
-}
-
-Quat rotation(std::mt19937_64& rng) {
-  std::normal_distribution<Real> n(0, 1);
-  return Quat(n(rng), n(rng), n(rng), n(rng)).normalized();
-}
 
 Shape random_part(std::mt19937_64& rng) {
   std::uniform_real_distribution<Real> size(0.05, 0.5);
@@ -45,7 +32,8 @@ Shape random_part(std::mt19937_64& rng) {
     default: {
       std::vector<Vec3> points;
       for (int i = 0; i < 12; ++i)
-        points.push_back(unit(rng).cwiseProduct(Vec3(size(rng), size(rng), size(rng))));
+        points.push_back(
+            testing::random_unit_vector(rng).cwiseProduct(Vec3(size(rng), size(rng), size(rng))));
       return hull_from_points(points);
     }
   }
@@ -60,7 +48,7 @@ Shape random_detailed(std::mt19937_64& rng) {
   for (int i = 0; i < n; ++i) {
     CompoundPart p{random_part(rng), Transform{}};
     p.pose.translation = Vec3(offset(rng), offset(rng), offset(rng));
-    p.pose.rotation = rotation(rng);
+    p.pose.rotation = testing::random_rotation(rng);
     parts.push_back(p);
   }
   return compound_from_parts(parts);
@@ -100,7 +88,7 @@ TEST(ShapeFit, EveryFitHoldsTheDetailedShapeAndTouchesIt) {
     const Shape detailed = random_detailed(rng);
     std::vector<Vec3> surface;
     for (int k = 0; k < 200; ++k)
-      surface.push_back(support(detailed, unit(rng)));
+      surface.push_back(support(detailed, testing::random_unit_vector(rng)));
     for (int k = 0; k < 3; ++k) {
       surface.push_back(support(detailed, Vec3::Unit(k)));
       surface.push_back(support(detailed, -Vec3::Unit(k)));
