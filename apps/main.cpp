@@ -15,6 +15,7 @@
 #include "apps/report_command.hpp"
 #include "apps/run_command.hpp"
 #include "apps/sim2real_command.hpp"
+#include "apps/sweep_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -204,6 +205,17 @@ int main(int argc, char** argv) {
   sim2real_cmd->add_option("--seed", sim2real.seed, "The batches' seed (default 0)");
   sim2real_cmd->add_option("-o,--output", sim2real.output,
                            "Directory for sim2real.csv, sim2real.md and sim2real.png");
+  tumble::app::SweepOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep",
+      "Run every combination of a sweep file's values (in one process, or over MPI ranks under "
+      "mpirun); write each run, sweep.csv and timings.csv");
+  sweep_cmd->add_option("spec", sweep.spec, "Sweep file (YAML): scene, vary, seeds, reference")
+      ->required();
+  sweep_cmd->add_option("-o,--output", sweep.output_dir, "Output directory")->required();
+  sweep_cmd->add_option("--threads", sweep.threads, "Threads per run, 1 to 1024 (default 1)")
+      ->check(CLI::Range(1, 1024));
+  sweep_cmd->add_flag("-q,--quiet", sweep.quiet, "Print errors only");
   tumble::app::RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Simulate a scene and render it off-screen to an MP4 video and/or PNG frames");
@@ -267,6 +279,8 @@ int main(int argc, char** argv) {
       return tumble::app::report_command(report);
     if (bench_cmd->parsed())
       return tumble::app::bench_command(bench);
+    if (sweep_cmd->parsed())
+      return tumble::app::sweep_command(sweep);
     if (sim2real_cmd->parsed())
       return tumble::app::sim2real_command(sim2real);
     if (bench_batch_cmd->parsed())

@@ -75,6 +75,10 @@ void RunSummary::set_trajectory_bodies(const Scene& scene, const std::vector<int
 }
 
 std::string RunSummary::to_json() const {
+  return to_json_object(true).dump(2);
+}
+
+nlohmann::json RunSummary::to_json_object(bool timings) const {
   using nlohmann::json;
   const WorldSettings& w = scene_.world;
   json settings = {{"dt", w.dt},
@@ -112,6 +116,10 @@ std::string RunSummary::to_json() const {
     phases[std::string(solve_phase_name(static_cast<SolvePhase>(i)))] =
         totals_.solve_phase_seconds[std::size_t(i)];
   stages[std::string(stage_name(Stage::solve))]["phases"] = phases;
+  if (!timings) {
+    for (int i = 0; i < kStageCount; ++i)
+      stages[std::string(stage_name(static_cast<Stage>(i)))] = {{"ran", totals_.ran[i]}};
+  }
   const double per_step = steps_ > 0 ? wall_seconds_ / static_cast<double>(steps_) : 0.0;
   json summary = {
       {"tumble_version", "0.1.0"},
@@ -149,7 +157,11 @@ std::string RunSummary::to_json() const {
       {"final_state_hash", final_hash_hex()},
       {"outputs",
        {{"trajectory", trajectory_.string()}, {"trajectory_bodies", trajectory_bodies_}}}};
-  return summary.dump(2);
+  if (!timings) {
+    for (const char* key : {"wall_seconds", "wall_seconds_per_step", "stage_seconds_total"})
+      summary.erase(key);
+  }
+  return summary;
 }
 
 }  // namespace tumble::app

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ class RunSummary {
   void finish(const Simulation& world, double wall_seconds,
               const std::filesystem::path& trajectory);
   std::string to_json() const;
+  // The summary as a JSON object. Without `timings` it holds no wall time (no wall_seconds, no
+  // stage seconds): what remains depends on the inputs alone, byte for byte.
+  nlohmann::json to_json_object(bool timings) const;
   std::string final_hash_hex() const;
   // The names of the bodies the trajectory lists, in its order (trajectory.npy's second axis).
   void set_trajectory_bodies(const Scene& scene, const std::vector<int>& bodies);

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <limits>
 #include <string>
 #include <thread>
 #include <utility>
@@ -46,6 +47,7 @@ struct BatchWorld::Impl {
   // and each world's current seed and number of draws so far.
   bool randomizing = false;
   std::uint64_t base_seed = 0;
+  int first_world = 0;  // this batch's world 0 draws as that world of the whole batch
   std::vector<std::uint64_t> seeds, draws;
   int bodies = 0;
   int threads = 1;
@@ -193,17 +195,21 @@ struct BatchWorld::Impl {
 };
 
 BatchWorld::BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads,
-                       std::uint64_t seed)
-    : BatchWorld(compile(std::move(scene)), num_worlds, threads, seed) {}
+                       std::uint64_t seed, int first_world)
+    : BatchWorld(compile(std::move(scene)), num_worlds, threads, seed, first_world) {}
 
 BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads,
-                       std::uint64_t seed)
+                       std::uint64_t seed, int first_world)
     : impl_(std::make_unique<Impl>()) {
   if (!model)
     throw Error("BatchWorld: the model is null");
   if (num_worlds < 1 || num_worlds > kMostWorlds)
     throw Error("BatchWorld: " + std::to_string(num_worlds) + " worlds; expected 1 to 1000000");
+  if (first_world < 0 || first_world > std::numeric_limits<int>::max() - num_worlds)
+    throw Error("BatchWorld: first_world " + std::to_string(first_world) +
+                " must be at least 0, with first_world + num_worlds within an int");
   Impl& m = *impl_;
+  m.first_world = first_world;
   m.model = std::move(model);
   m.bodies = static_cast<int>(m.model->body_count());
   m.randomizing = m.model->described_scene().randomize.any();
@@ -212,7 +218,7 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   m.draws.assign(std::size_t(num_worlds), 0);
   m.worlds.reserve(std::size_t(num_worlds));
   for (int w = 0; w < num_worlds; ++w) {
-    m.seeds[std::size_t(w)] = draw_seed(seed, w, 0);
+    m.seeds[std::size_t(w)] = draw_seed(seed, first_world + w, 0);
     m.worlds.push_back(m.make_world(m.seeds[std::size_t(w)]));
   }
   const std::size_t rows = std::size_t(num_worlds) * std::size_t(m.bodies);
@@ -301,7 +307,7 @@ void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::
     const int w = worlds[i];
     std::uint64_t& draw = impl_->draws[std::size_t(w)];
     ++draw;
-    impl_->renew(w, seeds.empty() ? draw_seed(impl_->base_seed, w, draw) : seeds[i]);
+    impl_->renew(w, seeds.empty() ? draw_seed(impl_->base_seed, impl_->first_world + w, draw) : seeds[i]);
     impl_->observe(w);
     const std::size_t first = std::size_t(w) * std::size_t(impl_->bodies);
     std::fill_n(impl_->contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * impl_->bodies,

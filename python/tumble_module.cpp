@@ -309,11 +309,15 @@ PYBIND11_MODULE(_tumble, m) {
 
   py::class_<BatchWorld>(m, "BatchWorld")
       .def(py::init(
-               [](const py::object& scene, int num_worlds, int threads, const py::object& seed) {
+               [](const py::object& scene, int num_worlds, int threads, const py::object& seed,
+                  int first_world) {
                  return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads,
-                                                     seed_value(seed, "seed"));
+                                                     seed_value(seed, "seed"), first_world);
                }),
-           py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0, py::arg("seed") = 0)
+           py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0, py::arg("seed") = 0,
+           py::arg("first_world") = 0,
+           "first_world: this batch is a shard of a larger one; its world i draws as world "
+           "first_world + i of that batch (tumble/batch_world.hpp).")
       .def_property_readonly("num_worlds", &BatchWorld::size)
       .def_property_readonly("body_count", &BatchWorld::body_count)
       .def_property_readonly("threads", &BatchWorld::threads)

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -20,8 +21,24 @@ namespace tumble {
 // Throws SceneError, and nothing else, on any problem (including a missing file).
 Scene load_scene_file(const std::filesystem::path& path);
 
+// A field of the scene set to another value before it is read: `field` is its dotted path
+// (`world.dt`, `materials.default.friction`, `bodies.2.mass` or `bodies.crate.mass` by name) and
+// `value` the YAML of the new value (`0.005`, `[0, 0, -1.62]`, `penalty`). A field the file leaves
+// out is added; the scene is then read and checked as if the file said so, and a bad value gets
+// the loader's own message (with no line: it is not in the file). A list item shared through a
+// YAML alias is copied, so only the path named changes.
+struct FieldOverride {
+  std::string field;
+  std::string value;
+};
+
+// Loads and validates the scene in `path` with `overrides` applied in order.
+Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOverride> overrides);
+
 // Loads and validates a scene from YAML text; `source_name` names it in messages and becomes
 // Scene::source. Throws SceneError, and nothing else.
 Scene load_scene_string(std::string_view yaml, std::string_view source_name);
+Scene load_scene_string(std::string_view yaml, std::string_view source_name,
+                        std::span<const FieldOverride> overrides);
 
 }  // namespace tumble

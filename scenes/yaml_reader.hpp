@@ -24,6 +24,8 @@
 
 #include "engine/scene_limits.hpp"
 #include "scenes/query_file.hpp"
+#include "scenes/scene_loader.hpp"
+#include "scenes/sweep_file.hpp"
 #include "tumble/error.hpp"
 #include "tumble/scene.hpp"
 
@@ -208,11 +210,14 @@ class Loader {
  public:
   explicit Loader(std::string source) : source_(std::move(source)) {}
 
-  Scene load(std::string_view text);
+  Scene load(std::string_view text, std::span<const FieldOverride> overrides = {});
 
  private:
   // `required` names the top-level field an empty document lacks ("bodies", "queries").
   const Node& parse(std::string_view text, DocumentBuilder& doc, std::string_view required) const;
+  // `root` with `value` put at the dotted path `keys` (scene_loader.cpp, FieldOverride).
+  const Node* with_field(const Node* node, std::span<const std::string> keys, std::size_t depth,
+                         const Node* value, DocumentBuilder& doc) const;
   [[noreturn]] void fail(const YAML::Mark& mark, const std::string& field,
                          const std::string& reason) const {
     const int line = mark.line >= 0 ? mark.line + 1 : 0;
@@ -262,9 +267,13 @@ class Loader {
  public:
   // `tumble query` files (scenes/query_file.hpp), parsed with the same shape reader.
   std::vector<ShapeQuery> load_queries(std::string_view text);
+  // `tumble sweep` files (scenes/sweep_file.hpp).
+  SweepSpec load_sweep(std::string_view text);
 
  private:
   ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
+  SweepAxis load_sweep_axis(const Entry& e) const;
+  SweepPlace place_of(const YAML::Mark& mark) const;
   void load_placed_shape(const Entry& e, const std::string& path, Shape& shape, Transform& pose,
                          Vec3* velocity, Vec3* angular_velocity) const;
 

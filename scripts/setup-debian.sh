@@ -20,6 +20,8 @@ packages=(
   libosmesa6-dev libpng-dev ffmpeg libbullet-dev gnuplot-nox
   # the MuJoCo peer of the batch benchmark (apps/mujoco_bridge.cpp)
   libmujoco-dev
+  # sweeps, reports and RL batches over MPI ranks (apps/mpi_work_pool.cpp, docs/scale-out.md)
+  openmpi-bin libopenmpi-dev python3-mpi4py
 )
 
 as_root=()

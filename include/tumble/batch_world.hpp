@@ -32,10 +32,14 @@ class BatchWorld {
   // scene when it is made and at each reset: world i's k-th draw (k = 0 when made) uses the seed
   // draw_seed(seed, i, k), and is the scene randomized(scene, that seed), so a lone
   // World(randomized(scene, batch.seed(i))) is the same world bit for bit.
+  //
+  // `first_world` makes the batch a shard of a larger one (a rank's part of a batch spread over
+  // processes): its world i draws as world first_world + i, so the shards together step the
+  // same worlds as one batch of them all.
   BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int threads = 0,
-             std::uint64_t seed = 0);
+             std::uint64_t seed = 0, int first_world = 0);
   BatchWorld(std::shared_ptr<const Scene> scene, int num_worlds, int threads = 0,
-             std::uint64_t seed = 0);
+             std::uint64_t seed = 0, int first_world = 0);
   ~BatchWorld();
   BatchWorld(BatchWorld&&) noexcept;
   BatchWorld& operator=(BatchWorld&&) noexcept;

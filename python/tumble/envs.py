@@ -67,14 +67,19 @@ class PushBoxEnv:
     render_mode = None
 
     def __init__(self, num_envs=16, threads=0, seed=0, max_steps=100, frame_skip=3,
-                 max_speed=0.5, goal=(0.7, 0.0), goal_radius=0.12, randomize=True):
+                 max_speed=0.5, goal=(0.7, 0.0), goal_radius=0.12, randomize=True, first_env=0):
         if int(num_envs) < 1:
             raise ValueError(f"num_envs must be at least 1, got {num_envs}")
         if int(max_steps) < 1 or int(frame_skip) < 1:
             raise ValueError("max_steps and frame_skip must be at least 1")
         if not (math.isfinite(max_speed) and max_speed > 0):
             raise ValueError(f"max_speed must be positive and finite, got {max_speed}")
+        if int(first_env) < 0:
+            raise ValueError(f"first_env must be at least 0, got {first_env}")
         self.num_envs = int(num_envs)
+        # A shard of a larger vector env (one MPI rank's part): world i here is world
+        # first_env + i there, in its draws and its reset seeds.
+        self.first_env = int(first_env)
         self.max_steps = int(max_steps)
         self.frame_skip = int(frame_skip)
         self.max_speed = float(max_speed)
@@ -82,7 +87,8 @@ class PushBoxEnv:
         self.goal_radius = float(goal_radius)
         text = _SCENE.format(randomize=_RANDOMIZE if randomize else "")
         self.scene = load_scene_text(text, "PushBoxEnv")
-        self.batch = BatchWorld(self.scene, self.num_envs, threads=threads, seed=seed)
+        self.batch = BatchWorld(self.scene, self.num_envs, threads=threads, seed=seed,
+                                first_world=self.first_env)
         self.dt = self.scene.dt
         self.single_observation_space = Box(-np.inf, np.inf, (10,), np.float64)
         self.single_action_space = Box(-1.0, 1.0, (2,), np.float64)
@@ -96,15 +102,16 @@ class PushBoxEnv:
     # -- Gymnasium vector API ------------------------------------------------------------------
 
     def reset(self, seed=None, options=None):
-        """Resets every world. An int seed gives world i the draw of seed + i (Gymnasium's rule
-        for vector environments); a list gives one seed per world; None draws the next episode."""
+        """Resets every world. An int seed gives world i the draw of seed + first_env + i
+        (Gymnasium's rule for vector environments, counted over the whole env when this one is
+        a shard); a list gives one seed per world; None draws the next episode."""
         ids = list(range(self.num_envs))
         if seed is None:
             self.batch.reset(ids)
         elif isinstance(seed, (list, tuple, np.ndarray)):
             self.batch.reset(ids, seeds=[int(s) for s in seed])
         else:
-            self.batch.reset(ids, seeds=[int(seed) + i for i in ids])
+            self.batch.reset(ids, seeds=[int(seed) + self.first_env + i for i in ids])
         self._elapsed[:] = 0
         return self._observe(), {}
 
