@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
 #include "apps/plot_quote.hpp"
+#include "apps/work_pool.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -184,31 +187,110 @@ std::string label(const Config& c) {
   return c.engine + " " + c.solver + " " + c.family;
 }
 
+// A run's result as bytes, to travel from the rank that ran it to rank 0 (apps/work_pool.hpp):
+// the checkpoints' positions, orientations and centres of mass, the wall time and the step.
+void put(std::string& bytes, double v) {
+  bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+std::string serialised(const RunResult& r) {
+  std::string bytes;
+  put(bytes, static_cast<double>(r.track.size()));
+  put(bytes, static_cast<double>(r.track.empty() ? 0 : r.track[0].size()));
+  put(bytes, static_cast<double>(r.turns.size()));
+  for (const auto& frame : r.track)
+    for (const Vec3& p : frame)
+      for (int k = 0; k < 3; ++k)
+        put(bytes, p[k]);
+  for (const auto& frame : r.turns)
+    for (const Quat& q : frame)
+      for (const double v : {q.w(), q.x(), q.y(), q.z()})
+        put(bytes, v);
+  for (const Vec3& c : r.com)
+    for (int k = 0; k < 3; ++k)
+      put(bytes, c[k]);
+  put(bytes, r.wall);
+  put(bytes, r.dt);
+  return bytes;
+}
+
+RunResult deserialised(const std::string& bytes) {
+  std::size_t at = 0;
+  const auto get = [&] {
+    double v = 0;
+    if (at + sizeof v > bytes.size())
+      throw std::runtime_error("tumble report: a run's result arrived truncated");
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  };
+  RunResult r;
+  const auto frames = static_cast<std::size_t>(get());
+  const auto bodies = static_cast<std::size_t>(get());
+  const auto turn_frames = static_cast<std::size_t>(get());
+  r.track.assign(frames, std::vector<Vec3>(bodies));
+  for (auto& frame : r.track)
+    for (Vec3& p : frame)
+      for (int k = 0; k < 3; ++k)
+        p[k] = get();
+  r.turns.assign(turn_frames, std::vector<Quat>(bodies));
+  for (auto& frame : r.turns)
+    for (Quat& q : frame) {
+      q.w() = get();
+      q.x() = get();
+      q.y() = get();
+      q.z() = get();
+    }
+  r.com.resize(frames);
+  for (Vec3& c : r.com)
+    for (int k = 0; k < 3; ++k)
+      c[k] = get();
+  r.wall = get();
+  r.dt = get();
+  return r;
+}
+
 }  // namespace
 
 int report_command(const ReportOptions& options) {
-  const Scene base = [&] {
-    Scene scene = load_scene_file(options.scene);
-    // The report measures run time per core against Bullet's one thread: one thread unless the
-    // command line asks for more.
-    scene.world.threads = options.threads ? *options.threads : 1;
-    return scene;
-  }();
-  const bool with_bullet = bullet_available() && !options.tumble_only;
-  if (!bullet_available() && !options.tumble_only) {
-    std::cerr << "tumble report: this build has no Bullet (configure with "
-                 "-DTUMBLE_WITH_BULLET=ON and the bullet-float64 package); sweeping tumble "
-                 "alone\n";
+  // Under mpirun the runs spread over the ranks (apps/work_pool.hpp); rank 0 writes the report.
+  std::unique_ptr<WorkPool> pool = make_work_pool();
+  std::string problem;
+  std::optional<Scene> loaded;
+  try {
+    loaded = load_scene_file(options.scene);
+    loaded->world.threads = options.threads ? *options.threads : 1;
+  } catch (const SceneError& e) {
+    problem = e.what();
   }
   std::filesystem::path dir = options.output_dir;
   if (dir.empty())
     dir = std::filesystem::path("out") / (options.scene.stem().string() + "-report");
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    std::cerr << "tumble report: " << dir.string() << ": cannot create output directory ("
-              << ec.message() << ")\n";
+  if (pool->is_coordinator() && problem.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+      problem = "tumble report: " + dir.string() + ": cannot create output directory (" +
+                ec.message() + ")";
+  }
+  const std::string agreed = pool->agree(problem);
+  if (!agreed.empty()) {
+    if (pool->is_coordinator())
+      std::cerr << agreed << "\n";
     return 1;
+  }
+  if (!loaded) {
+    // This rank alone cannot read the scene (a node that does not see the file): every run it
+    // is handed fails with the reason, which rank 0 reports with this rank's number.
+    pool->run({}, [&](std::size_t) -> std::string { throw std::runtime_error(problem); });
+    return 1;
+  }
+  const Scene& base = *loaded;
+  const bool with_bullet = bullet_available() && !options.tumble_only;
+  if (!bullet_available() && !options.tumble_only && pool->is_coordinator()) {
+    std::cerr << "tumble report: this build has no Bullet (configure with "
+                 "-DTUMBLE_WITH_BULLET=ON and the bullet-float64 package); sweeping tumble "
+                 "alone\n";
   }
 
   const Real dt0 = base.world.dt;
@@ -274,14 +356,54 @@ int report_command(const ReportOptions& options) {
   const bool has_analytic = analytic_reference(base, coarse_dt, marks, analytic);
   Config tumble_ref{"tumble",          "impulse",      "reference",
                     kReferenceDivisor, scene_substeps, scene_iterations};
-  const RunResult tumble_fine = run(base, tumble_ref, marks);
-  RunResult bullet_fine;
-  // Bullet's reference takes the scene's substeps too, so both references integrate free
-  // motion with the same internal step.
   Config bullet_ref{"bullet",          "bullet_si",    "reference",
                     kReferenceDivisor, scene_substeps, matching_bullet_settings(base).iterations};
+  // Task 0 is tumble's converged run, 1 Bullet's (when swept), 2 + k the k-th configuration.
+  // Short runs are repeated (up to 5 times, while under 0.2 s in all) and the fastest wall
+  // time kept, so that a scheduler hiccup does not pass for a setting's cost.
+  const auto task = [&](std::size_t i) {
+    if (i < 2)
+      return serialised(run(base, i == 0 ? tumble_ref : bullet_ref, marks));
+    const Config& c = configs[i - 2];
+    RunResult r = run(base, c, marks);
+    double spent = r.wall;
+    for (int repeat = 1; repeat < 5 && spent < 0.2; ++repeat) {
+      const double wall = run(base, c, marks).wall;
+      spent += wall;
+      r.wall = std::min(r.wall, wall);
+    }
+    return serialised(r);
+  };
+  // Longest first (the most steps, then the most substeps and passes), so that no rank is left
+  // with a long run at the end.
+  std::vector<std::size_t> order;
+  std::vector<double> cost(configs.size() + 2, 0);
+  cost[0] = cost[1] = static_cast<double>(steps_per_coarse(kReferenceDivisor)) * scene_substeps *
+                      scene_iterations;
+  order.push_back(0);
   if (with_bullet)
-    bullet_fine = run(base, bullet_ref, marks);
+    order.push_back(1);
+  for (std::size_t k = 0; k < configs.size(); ++k) {
+    const Config& c = configs[k];
+    cost[k + 2] = static_cast<double>(steps_per_coarse(c.step_divisor)) * c.substeps * c.iterations;
+    order.push_back(k + 2);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+  std::vector<std::string> results;
+  try {
+    results = pool->run(order, task);
+  } catch (const WorkError& e) {
+    std::cerr << "tumble report: " << e.what() << "\n";
+    return 1;
+  }
+  if (!pool->is_coordinator())
+    return 0;
+  std::vector<RunResult> by_task(configs.size() + 2);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    by_task[order[k]] = deserialised(results[k]);
+  const RunResult& tumble_fine = by_task[0];
+  const RunResult& bullet_fine = by_task[1];
   const RunResult& shared = has_analytic ? analytic : tumble_fine;
   Real reference_gap = with_bullet ? track_error(base, chaotic, tumble_fine, bullet_fine) : 0;
 
@@ -296,16 +418,9 @@ int report_command(const ReportOptions& options) {
   };
   std::vector<Row> rows;
   const Real simulated = static_cast<Real>(marks.back()) * coarse_dt;
-  for (const Config& c : configs) {
-    // Short runs are repeated (up to 5 times, while under 0.2 s in all) and the fastest wall
-    // time kept, so that a scheduler hiccup does not pass for a setting's cost.
-    RunResult r = run(base, c, marks);
-    double spent = r.wall;
-    for (int repeat = 1; repeat < 5 && spent < 0.2; ++repeat) {
-      const double wall = run(base, c, marks).wall;
-      spent += wall;
-      r.wall = std::min(r.wall, wall);
-    }
+  for (std::size_t k = 0; k < configs.size(); ++k) {
+    const Config& c = configs[k];
+    const RunResult& r = by_task[k + 2];
     const RunResult& own = c.engine == "tumble" ? tumble_fine : bullet_fine;
     rows.push_back({c, r.dt, r.wall / simulated, track_error(base, chaotic, r, shared),
                     track_error(base, chaotic, r, own), turn_error(base, r, tumble_fine),

@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-CLI = os.environ["TUMBLE_CLI"]
+CLI = str(pathlib.Path(os.environ["TUMBLE_CLI"]).resolve())
 MPIEXEC = os.environ.get("MPIEXEC", "mpirun")
 SOURCE = pathlib.Path(os.environ["TUMBLE_SOURCE_DIR"])
 # Open MPI refuses root unless told, and two ranks plus a coordinator oversubscribe two cores.
@@ -188,3 +188,19 @@ def test_an_rl_batch_spread_over_ranks_steps_the_same_worlds():
     assert "env-steps/s in total" in text
     three, _ = rollout([MPIEXEC, "-n", "3"])
     assert three == alone
+
+
+def test_a_report_over_ranks_measures_the_same_errors(tmp_path):
+    scene = SOURCE / "scenes" / "stack10.yaml"
+    common = ["report", str(scene), "--duration", "0.3", "--no-plot"]
+    run([CLI, *common, "-o", str(tmp_path / "one")])
+    run(mpirun(3, CLI, *common, "-o", str(tmp_path / "three")))
+
+    def without_wall_times(path):
+        rows = [line.split(",") for line in path.read_text().splitlines()]
+        wall = rows[0].index("wall_per_simulated_second")
+        return [row[:wall] + row[wall + 1:] for row in rows]
+
+    one = without_wall_times(tmp_path / "one" / "report.csv")
+    assert len(one) > 40
+    assert one == without_wall_times(tmp_path / "three" / "report.csv")
