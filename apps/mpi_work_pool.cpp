@@ -133,8 +133,7 @@ class MpiWorkPool final : public WorkPool {
   void work(const std::function<std::string(std::size_t)>& task) {
     std::string out = message(first_request, 0, "");
     for (;;) {
-      MPI_Send(out.data(), static_cast<int>(out.size()), MPI_BYTE, 0, kRequestTag,
-               MPI_COMM_WORLD);
+      MPI_Send(out.data(), static_cast<int>(out.size()), MPI_BYTE, 0, kRequestTag, MPI_COMM_WORLD);
       std::uint64_t assignment = kStop;
       MPI_Recv(&assignment, 1, MPI_UINT64_T, 0, kAssignTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       if (assignment == kStop) {

@@ -378,8 +378,8 @@ int report_command(const ReportOptions& options) {
   // with a long run at the end.
   std::vector<std::size_t> order;
   std::vector<double> cost(configs.size() + 2, 0);
-  cost[0] = cost[1] = static_cast<double>(steps_per_coarse(kReferenceDivisor)) * scene_substeps *
-                      scene_iterations;
+  cost[0] = cost[1] =
+      static_cast<double>(steps_per_coarse(kReferenceDivisor)) * scene_substeps * scene_iterations;
   order.push_back(0);
   if (with_bullet)
     order.push_back(1);

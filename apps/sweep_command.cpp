@@ -36,7 +36,7 @@ constexpr int kCheckpoints = 10;  // positions kept per run for the error agains
 
 // One run of the sweep: a reference run, or a combination of the axes' values and a seed.
 struct PlannedRun {
-  std::string name;  // its directory under DIR: runs/0007 or references/0001
+  std::string name;                 // its directory under DIR: runs/0007 or references/0001
   std::vector<std::size_t> values;  // index of each axis' value (empty for a reference)
   std::optional<std::uint64_t> seed;
   std::vector<FieldOverride> overrides;
@@ -251,7 +251,8 @@ double execute(const SweepSpec& spec, const PlannedRun& run, const std::filesyst
     trajectory->finish();
   checkpoints.commit();
   write_file_atomically(dir / "timing.json",
-                        json({{"rank", rank}, {"wall_seconds", wall},
+                        json({{"rank", rank},
+                              {"wall_seconds", wall},
                               {"seconds_per_step", wall / static_cast<double>(steps)}})
                                 .dump(2) +
                             "\n");
@@ -377,8 +378,8 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
   try {
     AtomicFile probe(out / "sweep.csv");  // removed unread: only whether it can be written
   } catch (const std::exception& e) {
-    throw std::runtime_error(out.string() + ": cannot write in the output directory (" +
-                             e.what() + ")");
+    throw std::runtime_error(out.string() + ": cannot write in the output directory (" + e.what() +
+                             ")");
   }
   (void)load_scene_file(spec.scene);
   for (const SweepAxis& axis : spec.axes) {
@@ -389,10 +390,9 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
         scene.world.threads = threads;
         check_scene(scene);
       } catch (const SceneError& e) {
-        throw SceneError(spec.source.string(), axis.places[v].line, axis.places[v].column,
-                         "vary." + axis.field,
-                         "the value " + axis.values[v] + " does not make a valid scene: " +
-                             e.what());
+        throw SceneError(
+            spec.source.string(), axis.places[v].line, axis.places[v].column, "vary." + axis.field,
+            "the value " + axis.values[v] + " does not make a valid scene: " + e.what());
       }
     }
   }
@@ -400,8 +400,7 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
   for (const PlannedRun& run : plan.runs) {
     try {
       const auto scene = scene_of(spec, run, threads);
-      cost.push_back(static_cast<double>(scene_steps(*scene)) *
-                     std::max(1, scene->world.substeps) *
+      cost.push_back(static_cast<double>(scene_steps(*scene)) * std::max(1, scene->world.substeps) *
                      static_cast<double>(scene->bodies.size()));
     } catch (const SceneError& e) {
       std::string values;
@@ -417,6 +416,11 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
 }  // namespace
 
 int sweep_command(const SweepOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  const auto started = Clock::now();
   std::unique_ptr<WorkPool> pool = make_work_pool();
   std::optional<SweepSpec> spec;
   std::optional<Plan> plan;
@@ -428,7 +432,8 @@ int sweep_command(const SweepOptions& options) {
     try {
       spec = load_sweep_file(options.spec);
       plan = plan_runs(*spec);
-      const std::vector<double> cost = check_sweep(*spec, *plan, options.output_dir, options.threads);
+      const std::vector<double> cost =
+          check_sweep(*spec, *plan, options.output_dir, options.threads);
       for (std::size_t i = 0; i < plan->runs.size(); ++i) {
         const PlannedRun& run = plan->runs[i];
         if (is_complete(options.output_dir / run.name, identity(*spec, run, options.threads)))
@@ -447,7 +452,8 @@ int sweep_command(const SweepOptions& options) {
       return 1;
     }
     if (!options.quiet) {
-      std::cout << "tumble sweep: " << plan->runs.size() - plan->first_row << " runs"
+      std::cout << "tumble sweep: checked in " << fixed_digits(seconds_since(started), 3) << " s; "
+                << plan->runs.size() - plan->first_row << " runs"
                 << (plan->first_row > 0 ? " and " + std::to_string(plan->first_row) + " references"
                                         : std::string())
                 << "; " << complete << " already complete, " << order.size() << " to run on "
@@ -468,6 +474,7 @@ int sweep_command(const SweepOptions& options) {
         execute(*spec, plan->runs.at(i), options.output_dir, options.threads, pool->rank());
     return format_number(wall);
   };
+  const auto running = Clock::now();
   try {
     pool->run(order, task);
   } catch (const WorkError& e) {
@@ -477,9 +484,13 @@ int sweep_command(const SweepOptions& options) {
   }
   if (!pool->is_coordinator())
     return 0;
+  const double run_seconds = seconds_since(running);
+  const auto tabling = Clock::now();
   write_tables(*spec, *plan, options.output_dir);
   if (!options.quiet) {
-    std::cout << "  results: " << (options.output_dir / "sweep.csv").string() << "\n"
+    std::cout << "  ran " << order.size() << " in " << fixed_digits(run_seconds, 3)
+              << " s; tables in " << fixed_digits(seconds_since(tabling), 3) << " s\n"
+              << "  results: " << (options.output_dir / "sweep.csv").string() << "\n"
               << "  timings: " << (options.output_dir / "timings.csv").string() << "\n";
   }
   return 0;

@@ -307,7 +307,8 @@ void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::
     const int w = worlds[i];
     std::uint64_t& draw = impl_->draws[std::size_t(w)];
     ++draw;
-    impl_->renew(w, seeds.empty() ? draw_seed(impl_->base_seed, impl_->first_world + w, draw) : seeds[i]);
+    impl_->renew(
+        w, seeds.empty() ? draw_seed(impl_->base_seed, impl_->first_world + w, draw) : seeds[i]);
     impl_->observe(w);
     const std::size_t first = std::size_t(w) * std::size_t(impl_->bodies);
     std::fill_n(impl_->contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * impl_->bodies,

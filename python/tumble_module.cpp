@@ -308,12 +308,11 @@ PYBIND11_MODULE(_tumble, m) {
           py::arg("origin"), py::arg("direction"), py::arg("max_distance"));
 
   py::class_<BatchWorld>(m, "BatchWorld")
-      .def(py::init(
-               [](const py::object& scene, int num_worlds, int threads, const py::object& seed,
-                  int first_world) {
-                 return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads,
-                                                     seed_value(seed, "seed"), first_world);
-               }),
+      .def(py::init([](const py::object& scene, int num_worlds, int threads, const py::object& seed,
+                       int first_world) {
+             return std::make_unique<BatchWorld>(scene_from(scene), num_worlds, threads,
+                                                 seed_value(seed, "seed"), first_world);
+           }),
            py::arg("scene"), py::arg("num_worlds"), py::arg("threads") = 0, py::arg("seed") = 0,
            py::arg("first_world") = 0,
            "first_world: this batch is a shard of a larger one; its world i draws as world "

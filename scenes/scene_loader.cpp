@@ -49,8 +49,7 @@ std::string joined(std::span<const std::string> keys, std::size_t count) {
 
 // The item of a list that a path component names: its index, or the item whose `name` it is.
 std::optional<std::size_t> list_item(const Node& list, const std::string& key) {
-  if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos &&
-      key.size() < 10) {
+  if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos && key.size() < 10) {
     const std::size_t i = std::stoul(key);
     if (i < list.items.size()) {
       return i;

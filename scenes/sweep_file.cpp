@@ -25,7 +25,7 @@ std::string sweep_number_text(double value) {
 namespace scene_yaml {
 namespace {
 
-constexpr std::array<std::string_view, 6> kSweepKeys{"scene", "duration", "vary",
+constexpr std::array<std::string_view, 6> kSweepKeys{"scene", "duration",  "vary",
                                                      "seeds", "reference", "trajectory"};
 constexpr std::array<std::string_view, 4> kRangeKeys{"from", "to", "count", "scale"};
 constexpr RealSpec kSweepDuration{"a duration in seconds", "greater than 0, at most 1e9", 0, 1e9,
@@ -207,15 +207,15 @@ SweepSpec Loader::load_sweep(std::string_view text) {
       for (std::size_t i = 0; i < x->value.items.size(); ++i) {
         const Node& item = *x->value.items[i];
         const Entry entry{"", mark_or(item, x->mark()), item};
-        spec.seeds.push_back(
-            static_cast<std::uint64_t>(read_int(entry, index("seeds", i), kSeed)));
+        spec.seeds.push_back(static_cast<std::uint64_t>(read_int(entry, index("seeds", i), kSeed)));
       }
     } else {
       const Real count_value = read_real(*x, "seeds", kRangeEnd);
       if (count_value < 1 && std::floor(count_value) == count_value) {
         fail(x->mark(), "seeds",
-             "expected at least one seed, got " + describe(x->value) + " (leave it out to run "
-             "the scene as written)");
+             "expected at least one seed, got " + describe(x->value) +
+                 " (leave it out to run "
+                 "the scene as written)");
       }
       const auto count = read_int(*x, "seeds", kSeedCount);
       for (std::int64_t s = 0; s < count; ++s) {

@@ -114,3 +114,23 @@ def test_a_steering_pusher_reaches_the_goal_in_randomized_worlds():
     for _ in range(20):
         obs, reward, terminated, truncated, info = env.step(np.zeros((32, 2)))
         assert not np.any(info["success"])
+
+
+def test_shards_step_the_worlds_of_the_whole_env():
+    # 7 worlds as one env, and as shards of 3 and 4 (first_env 0 and 3): the same observations
+    # and rewards, through resets with a seed and the automatic resets of short episodes.
+    whole = PushBoxEnv(num_envs=7, seed=5, max_steps=4)
+    head = PushBoxEnv(num_envs=3, seed=5, max_steps=4)
+    tail = PushBoxEnv(num_envs=4, seed=5, max_steps=4, first_env=3)
+    obs = [env.reset(seed=11)[0] for env in (whole, head, tail)]
+    np.testing.assert_array_equal(obs[0], np.concatenate(obs[1:]))
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        actions = rng.uniform(-1, 1, size=(7, 2))
+        w = whole.step(actions)
+        h = head.step(actions[:3])
+        t = tail.step(actions[3:])
+        for k in (0, 1, 2, 3):  # observation, reward, terminated, truncated
+            np.testing.assert_array_equal(w[k], np.concatenate([h[k], t[k]]))
+    with pytest.raises(ValueError):
+        PushBoxEnv(num_envs=2, first_env=-1)

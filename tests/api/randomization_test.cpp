@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 
@@ -297,6 +298,37 @@ TEST(Randomization, ResetDrawsAgainAndAGivenSeedReplays) {
   EXPECT_EQ(obs[row + 2], drawn.bodies[2].position.z());
   const std::vector<std::uint64_t> two_seeds{1, 2};
   EXPECT_THROW(batch.reset(one, two_seeds), Error);
+}
+
+TEST(Randomization, ShardsOfABatchStepItsWorlds) {
+  // A batch of 7 worlds cut into shards of 3 and 4 (first_world 0 and 3): every world draws,
+  // steps and resets as in the whole batch.
+  auto scene = randomized_pile();
+  BatchWorld whole(scene, 7, 1, 42);
+  BatchWorld head(scene, 3, 1, 42, 0);
+  BatchWorld tail(scene, 4, 2, 42, 3);
+  const auto same = [&](const char* when) {
+    for (int w = 0; w < 7; ++w) {
+      const BatchWorld& shard = w < 3 ? head : tail;
+      const int local = w < 3 ? w : w - 3;
+      EXPECT_EQ(shard.seed(local), whole.seed(w)) << when << ", world " << w;
+      EXPECT_EQ(shard.state_hash(local), whole.state_hash(w)) << when << ", world " << w;
+    }
+  };
+  same("made");
+  for (BatchWorld* b : {&whole, &head, &tail})
+    b->step(15);
+  same("stepped");
+  // Worlds 1 and 5 end their episode: the next draw is the whole batch's.
+  const std::vector<int> whole_ids{1, 5}, head_ids{1}, tail_ids{2};
+  whole.reset(whole_ids);
+  head.reset(head_ids);
+  tail.reset(tail_ids);
+  for (BatchWorld* b : {&whole, &head, &tail})
+    b->step(15);
+  same("reset and stepped");
+  EXPECT_THROW(BatchWorld(scene, 3, 1, 42, -1), Error);
+  EXPECT_THROW(BatchWorld(scene, 3, 1, 42, std::numeric_limits<int>::max() - 1), Error);
 }
 
 }  // namespace

@@ -80,8 +80,8 @@ std::size_t column(const std::vector<std::string>& header, const std::string& na
 TEST(SweepCommand, OneRowPerRunEachTheWorldTumbleRunMakes) {
   const SweepDir d("tumble_sweep_rows");
   const fs::path spec = d.write_spec(kSpec);
-  const CommandOutput out = run_tumble_command("sweep " + spec.string() + " -o " +
-                                               (d.root / "out").string());
+  const CommandOutput out =
+      run_tumble_command("sweep " + spec.string() + " -o " + (d.root / "out").string());
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const auto rows = csv_rows(d.root / "out" / "sweep.csv");
   ASSERT_EQ(rows.size(), 5u);  // header and 2 x 2 runs
@@ -96,10 +96,9 @@ TEST(SweepCommand, OneRowPerRunEachTheWorldTumbleRunMakes) {
     EXPECT_EQ(row[column(h, "status")], "ok");
     // The same world as `tumble run` given those settings on the command line or in the file.
     const fs::path run_dir = d.root / ("run" + std::to_string(r));
-    std::ofstream(d.root / "edited.yaml")
-        << std::string(kScene).replace(std::string(kScene).find("dt: 0.01"), 8,
-                                       "dt: " + settings[r].first + ", substeps: " +
-                                           settings[r].second);
+    std::ofstream(d.root / "edited.yaml") << std::string(kScene).replace(
+        std::string(kScene).find("dt: 0.01"), 8,
+        "dt: " + settings[r].first + ", substeps: " + settings[r].second);
     ASSERT_EQ(run_tumble_command("run " + (d.root / "edited.yaml").string() +
                                  " --threads 1 -q -o " + run_dir.string())
                   .exit_code,
@@ -150,8 +149,7 @@ TEST(SweepCommand, ARestartRedoesOnlyWhatIsMissingAndEndsTheSame) {
   d.write_spec(std::string(kSpec) + "seeds: 2\nduration: 0.2\n");
   const CommandOutput changed = run_tumble_command("sweep " + spec.string() + " -o " + out_dir);
   ASSERT_EQ(changed.exit_code, 0) << changed.text;
-  EXPECT_NE(changed.text.find("0 already complete, 12 to run"), std::string::npos)
-      << changed.text;
+  EXPECT_NE(changed.text.find("0 already complete, 12 to run"), std::string::npos) << changed.text;
 }
 
 TEST(SweepCommand, BadSweepsAreRefusedBeforeAnyRun) {

@@ -43,8 +43,9 @@ TEST(FieldOverride, SetsAFieldTheFileGives) {
 }
 
 TEST(FieldOverride, AddsAFieldTheFileLeavesOut) {
-  const Scene s = overridden({{"world.substeps", "7"}, {"materials.default.friction", "0.3"},
-                        {"world.gravity", "[0, 0, -1.62]"}});
+  const Scene s = overridden({{"world.substeps", "7"},
+                              {"materials.default.friction", "0.3"},
+                              {"world.gravity", "[0, 0, -1.62]"}});
   EXPECT_EQ(s.world.substeps, 7);
   EXPECT_EQ(s.materials[0].friction, 0.3);
   EXPECT_EQ(s.world.gravity.z(), -1.62);

@@ -43,9 +43,9 @@ TEST(SweepFile, ReadsAxesInFileOrder) {
 TEST(SweepFile, RangesHitTheirEndsExactly) {
   for (int count = 1; count <= 50; ++count) {
     const SweepSpec s = load_sweep_string(
-        "scene: a.yaml\nvary:\n  world.dt: {from: 0.1, to: 0.7, count: " +
-            std::to_string(count) + "}\n  world.contact_hertz: {from: 1, to: 1000, count: " +
-            std::to_string(count) + ", scale: log}\n",
+        "scene: a.yaml\nvary:\n  world.dt: {from: 0.1, to: 0.7, count: " + std::to_string(count) +
+            "}\n  world.contact_hertz: {from: 1, to: 1000, count: " + std::to_string(count) +
+            ", scale: log}\n",
         "s.yaml");
     ASSERT_EQ(s.axes[0].values.size(), std::size_t(count));
     EXPECT_EQ(std::stod(s.axes[0].values.front()), 0.1);
@@ -68,8 +68,8 @@ TEST(SweepFile, SeedsAsAList) {
   const SweepSpec s =
       load_sweep_string("scene: a.yaml\nvary: {world.dt: [0.01]}\nseeds: [7, 11]\n", "s.yaml");
   EXPECT_EQ(s.seeds, (std::vector<std::uint64_t>{7, 11}));
-  EXPECT_TRUE(load_sweep_string("scene: a.yaml\nvary: {world.dt: [0.01]}\n", "s.yaml")
-                  .seeds.empty());
+  EXPECT_TRUE(
+      load_sweep_string("scene: a.yaml\nvary: {world.dt: [0.01]}\n", "s.yaml").seeds.empty());
 }
 
 TEST(SweepFile, MistakesNameTheLineAndField) {
@@ -90,14 +90,14 @@ TEST(SweepFile, MistakesNameTheLineAndField) {
          "vary.world.dt.scale", "greater than 0");
   expect("scene: a.yaml\nvary:\n  world.dt: 0.1\n", "vary.world.dt", "expected a list of values");
   expect("scene: a.yaml\nvary: {}\n", "field 'vary'", "at least one field");
-  expect("scene: a.yaml\nvary: {world.dt: [1]}\nseeds: 0\n", "field 'seeds'",
-         "at least one seed");
+  expect("scene: a.yaml\nvary: {world.dt: [1]}\nseeds: 0\n", "field 'seeds'", "at least one seed");
   expect("scene: a.yaml\nvary: {world.dt: [1]}\nseeds: [1, -2]\n", "seeds[1]", "got -2");
   expect("scene: a.yaml\nvary: {world.dt: [1]}\nrefrence: {world.dt: 1}\n", "refrence",
          "did you mean 'reference'");
-  expect("scene: a.yaml\nvary:\n  a: {from: 0, to: 1, count: 1000}\n  b: {from: 0, to: 1, count: "
-         "1000}\n  c: [1, 2]\n",
-         "field 'vary'", "at most 1e6");
+  expect(
+      "scene: a.yaml\nvary:\n  a: {from: 0, to: 1, count: 1000}\n  b: {from: 0, to: 1, count: "
+      "1000}\n  c: [1, 2]\n",
+      "field 'vary'", "at most 1e6");
   expect("scene: a.yaml\nvary: {world..dt: [1]}\n", "vary.world..dt", "dotted field path");
 }
 
