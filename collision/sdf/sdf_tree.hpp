@@ -1,0 +1,104 @@
+// A solid given by its signed distance: analytic primitives (sphere, box, capsule, cylinder,
+// torus, half-space), each placed by a rigid transform, combined by constructive solid geometry
+// (union, intersection, difference, smooth union) to any depth. SdfTree::sample gives the signed
+// distance of a point and its gradient, evaluated without allocating.
+//
+// Exact and bound: a primitive's distance is exact (|phi| is the distance to the surface and
+// |grad phi| = 1). A union's is exact outside it and a bound inside; an intersection's and a
+// difference's are bounds everywhere (|phi| <= the true distance, zero exactly on the surface),
+// and a smooth union's is within log(n) / k of the union's. The surface phi = 0 is always exact,
+// so contacts found at phi < 0 are real; a bound only makes a deep penetration look shallower
+// than it is and the push-out direction that of the nearest primitive (docs/sdf.md).
+// Combinations follow Ricci, "A constructive geometry for computer graphics" (The Computer
+// Journal 16, 1973): min, max and max(a, -b); the smooth union is the log-sum-exp
+// -1/k log(sum exp(-k phi_i)), which is below every phi_i by at most log(n) / k.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "collision/aabb.hpp"
+#include "collision/math.hpp"
+#include "collision/sdf/sdf_primitives.hpp"
+
+namespace tumble {
+
+enum class SdfKind : std::uint8_t {
+  sphere,
+  box,
+  capsule,
+  cylinder,
+  torus,
+  plane,
+  union_of,
+  intersection_of,
+  difference_of,  // the first child minus every other
+  smooth_union_of,
+};
+
+// How a node is described (from YAML, C++ or Python); SdfTree checks it and flattens it.
+struct SdfNode {
+  SdfKind kind = SdfKind::sphere;
+  Transform pose;                    // the node's frame in its parent's
+  Real radius = 0;                   // sphere, capsule, cylinder [m]
+  Real half_length = 0;              // capsule, cylinder [m]
+  Vec3 half_extents = Vec3::Zero();  // box [m]
+  Real major_radius = 0;             // torus [m]
+  Real minor_radius = 0;             // torus [m]
+  Real k = 0;                        // smooth union: sharpness [1/m]; the blend is about 1/k wide
+  std::vector<SdfNode> children;     // the operations' operands
+
+  static SdfNode sphere(Real radius);
+  static SdfNode box(const Vec3& half_extents);
+  static SdfNode capsule(Real radius, Real half_length);
+  static SdfNode cylinder(Real radius, Real half_length);
+  static SdfNode torus(Real major_radius, Real minor_radius);
+  static SdfNode plane();
+  static SdfNode combine(SdfKind operation, std::vector<SdfNode> operands, Real k = 0);
+  SdfNode placed(const Transform& pose) const;
+};
+
+class SdfTree {
+ public:
+  static constexpr int kMaxDepth = 64;
+  static constexpr int kMaxNodes = 100000;
+  static constexpr Real kMaxSize = 1e6;  // m, any length of a primitive
+
+  // Throws tumble::Error naming the node (by its path, "root.children[1]") and what is wrong: a
+  // size not positive and finite or above kMaxSize, a torus whose tube is not thinner than its
+  // ring, an operation with fewer than two operands, k not positive, a pose not finite, a tree
+  // deeper than kMaxDepth or larger than kMaxNodes.
+  explicit SdfTree(const SdfNode& root);
+
+  // The signed distance at p (tree frame) and its gradient.
+  sdf::Sample sample(const Vec3& p) const { return sample_node(0, p); }
+  Real distance(const Vec3& p) const { return sample_node(0, p).distance; }
+
+  // A box holding every point with phi <= 0; infinite along the axes a half-space leaves open.
+  const Aabb& bounds() const { return bounds_; }
+  bool is_bounded() const;
+  // Whether |phi| is the distance to the surface everywhere (a lone primitive).
+  bool is_exact() const { return nodes_[0].kind <= SdfKind::plane; }
+  int node_count() const { return static_cast<int>(nodes_.size()); }
+
+ private:
+  struct Flat {
+    SdfKind kind;
+    bool moved;  // pose is not the identity
+    Transform pose;
+    Real a = 0;  // radius, major radius, or k
+    Real b = 0;  // half length or minor radius
+    Vec3 half_extents = Vec3::Zero();
+    std::uint32_t first = 0;  // children: nodes_[first, first + count)
+    std::uint32_t count = 0;
+  };
+  sdf::Sample sample_node(std::uint32_t i, const Vec3& p) const;
+  void flatten(const SdfNode& node, std::uint32_t slot, const std::string& path, int depth);
+  Aabb bounds_of(std::uint32_t i) const;
+
+  std::vector<Flat> nodes_;
+  Aabb bounds_;
+};
+
+}  // namespace tumble
