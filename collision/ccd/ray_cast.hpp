@@ -1,20 +1,14 @@
-// Ray casts against every shape (Ericson, Real-Time Collision Detection, 2005: 5.3.2
-// ray-sphere, 5.3.3 ray-box slabs, 5.3.7 ray-cylinder; a capsule is its side plus two spheres;
-// a hull by Cyrus-Beck clipping against its face planes; a mesh by Moller-Trumbore on the
-// triangles its BVH returns, front faces only; a compound by its nearest part).
+// Ray casts against every shape, in world space (each shape type's method is in its row of the
+// shape table, collision/shapes/<type>_ops.cpp: Ericson, Real-Time Collision Detection, 2005,
+// 5.3.2 ray-sphere, 5.3.3 ray-box slabs, 5.3.7 ray-cylinder; a capsule is its side plus two
+// spheres; a hull by Cyrus-Beck clipping against its face planes; a mesh by Moller-Trumbore on
+// the triangles its BVH returns, front faces only; a compound by its nearest part).
 #pragma once
 
 #include "collision/shapes/shape.hpp"
+#include "collision/shapes/shape_ops.hpp"
 
 namespace tumble {
-
-struct ShapeRayHit {
-  bool hit = false;
-  // Where along the ray the surface is first met: point = origin + fraction * delta, in [0, 1].
-  // A ray starting inside the shape hits at fraction 0.
-  Real fraction = 1;
-  Vec3 normal = Vec3::UnitZ();  // outward surface normal at the hit (world); -delta/|delta| at 0
-};
 
 // The segment from `origin` to `origin + delta` (world) against `shape` at `pose`.
 ShapeRayHit ray_cast(const Shape& shape, const Transform& pose, const Vec3& origin,

@@ -1,0 +1,60 @@
+// The compound's row of the shape table (collision/shapes/shape_ops.hpp): convex parts placed in
+// the compound's frame, each answered by its own row.
+#include <algorithm>
+#include <limits>
+
+#include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/shape_rows.hpp"
+
+namespace tumble {
+namespace {
+
+Vec3 support(const Shape& s, const Vec3& d) {
+  return s.compound->support(d);
+}
+
+Aabb world_aabb(const Shape& s, const Transform& pose) {
+  return s.compound->world_aabb(pose);
+}
+
+Real volume(const Shape& s) {
+  return s.compound->volume();
+}
+
+Mat3 unit_inertia(const Shape& s) {
+  return s.compound->unit_inertia();
+}
+
+Real bounding_radius(const Shape& s) {
+  return s.compound->bounding_radius();
+}
+
+// The nearest part's hit.
+ShapeRayHit ray(const Shape& s, const Vec3& o, const Vec3& d) {
+  ShapeRayHit out;
+  for (const CompoundPart& part : s.compound->parts()) {
+    ShapeRayHit h = shape_ops(part.shape.type)
+                        .ray(part.shape, part.pose.apply_inverse(o), part.pose.rotate_inverse(d));
+    if (h.hit && (!out.hit || h.fraction < out.fraction)) {
+      h.normal = part.pose.rotate(h.normal);
+      out = h;
+    }
+  }
+  return out;
+}
+
+// The union's distance outside; inside, the deepest part's (a bound on the union's).
+Real signed_distance(const Shape& s, const Vec3& p) {
+  Real best = std::numeric_limits<Real>::infinity();
+  for (const CompoundPart& part : s.compound->parts())
+    best = std::min(
+        best, shape_ops(part.shape.type).signed_distance(part.shape, part.pose.apply_inverse(p)));
+  return best;
+}
+
+}  // namespace
+
+const ShapeOps kCompoundOps{"compound",   support,         world_aabb, volume,
+                            unit_inertia, bounding_radius, ray,        signed_distance};
+
+}  // namespace tumble
