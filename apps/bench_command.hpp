@@ -17,7 +17,7 @@ namespace tumble::app {
 
 struct BenchOptions {
   std::vector<std::filesystem::path> scenes;  // default scenes/bench/*.yaml
-  std::filesystem::path output_dir = "docs/benchmarks";
+  std::filesystem::path output_dir = "out/bench";
   int repetitions = 3;
   std::optional<std::int64_t> steps;
   // tumble runs at each of these thread counts; the first is the one the others' speed-ups are

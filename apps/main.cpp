@@ -18,6 +18,7 @@
 #include "apps/sweep_command.hpp"
 #include "apps/validate_command.hpp"
 #include "scenes/scene_loader.hpp"
+#include "tumble/version.hpp"
 
 namespace {
 
@@ -42,6 +43,7 @@ const auto kFinitePositive = CLI::Validator(
 int main(int argc, char** argv) {
   CLI::App app{"tumble: a rigid-body physics engine centred on collision detection"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tumble ") + tumble::kVersion);
 
   tumble::app::RunOptions run;
   CLI::App* run_cmd =
@@ -148,7 +150,7 @@ int main(int argc, char** argv) {
       "bench", "Time scenes in tumble and Bullet, alternating, with sleeping off and on");
   bench_cmd->add_option("scenes", bench.scenes, "Scene files (default: scenes/bench/*.yaml)");
   bench_cmd->add_option("-o,--output", bench.output_dir,
-                        "Directory for the CSV files (default docs/benchmarks)");
+                        "Directory for the CSV files (default out/bench)");
   bench_cmd->add_option("--repetitions", bench.repetitions, "Runs of each engine per scene")
       ->check(CLI::Range(1, 1000));
   bench_cmd->add_option("--steps", bench.steps, "Steps per run (overrides the scene)")
@@ -230,9 +232,12 @@ int main(int argc, char** argv) {
                          "--frames is given)");
   render_cmd->add_option("--frames", render.frames_dir,
                          "Also write every frame as DIR/frame_NNNNNN.png");
-  render_cmd->add_option("--fps", render.fps, "Frames per second of simulated time")
+  // At least one frame a second: a video's frame rate below that is not one ffmpeg writes.
+  render_cmd
+      ->add_option("--fps", render.fps,
+                   "Frames per second of simulated time, 1 to 1000 (default 60)")
       ->check(kFinitePositive)
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(CLI::Range(1.0, 1000.0));
   render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT (default 1280x720)");
   render_cmd
       ->add_option("--overlay", render.overlays,
@@ -253,11 +258,27 @@ int main(int argc, char** argv) {
   query_cmd->add_option("file", query_file, "Query file (YAML): queries: [{name, a, b}]")
       ->required();
 
+  // A first word that is no command (a typo) is named, not reported as a missing command.
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string commands;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      known = known || sub->get_name() == argv[1];
+      commands += (commands.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "tumble: unknown command '" << argv[1] << "'; the commands are " << commands
+                << "\nRun with --help for usage.\n";
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "tumble: " << e.what() << "\nRun with --help for usage.\n";

@@ -237,6 +237,12 @@ class Checker {
       vector(scene_.camera->position, kCoordinate, "camera.position");
       vector(scene_.camera->target, kCoordinate, "camera.target");
       real(scene_.camera->fov, kFov, "camera.fov");
+      // The view direction is the difference of the two: closer than this it has no direction
+      // worth the name (1e-300 m apart gave blank frames).
+      const Real apart = (scene_.camera->target - scene_.camera->position).norm();
+      if (!(apart >= kMinCameraDistance))
+        fail("camera.target",
+             "must be at least 1e-6 m from camera.position, got " + number_text(apart) + " m");
     }
   }
 

@@ -93,6 +93,7 @@ inline constexpr RealSpec kMassScale{"a positive factor", "greater than 0, at mo
 inline constexpr RealSpec kSizeNoise{"a relative standard deviation", "0 to 0.2", 0, 0.2};
 inline constexpr RealSpec kAngleNoise{"a standard deviation in radians", "0 to 3.14", 0, 3.14};
 inline constexpr RealSpec kFov{"a vertical field of view in degrees", "1 to 179", 1, 179};
+inline constexpr Real kMinCameraDistance = 1e-6;  // m, camera.target from camera.position
 
 inline constexpr IntSpec kSteps{"a whole number of steps", "1 to 1e9", 1, kMaxSteps};
 inline constexpr IntSpec kThreads{"a whole number of threads, or auto", "1 to 1024", 1, 1024};

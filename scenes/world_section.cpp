@@ -176,11 +176,13 @@ Camera Loader::load_camera(const Entry& e) const {
   if (const Entry* x = f.find("fov")) {
     c.fov = read_real(*x, "camera.fov", kFov);
   }
-  if (c.position == c.target) {
+  // Closer than kMinCameraDistance the difference has no direction worth the name (1e-300 m
+  // apart gave blank frames); the same rule as check_scene's, here with the line.
+  if (!((c.target - c.position).norm() >= kMinCameraDistance)) {
     const Entry* x = f.find("target") != nullptr ? f.find("target") : f.find("position");
     const YAML::Mark where = x != nullptr ? x->mark() : f.mark;
     fail(where, "camera.target",
-         "the camera's target equals its position, so it has no view direction");
+         "the camera's target is within 1e-6 m of its position, so it has no view direction");
   }
   return c;
 }

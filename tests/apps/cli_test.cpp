@@ -174,6 +174,22 @@ TEST(Cli, BadCommandLinesAreUserErrors) {
   }
 }
 
+TEST(Cli, VersionAndUnknownCommandsSaySo) {
+  const Result version = run_cli("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.output.find("tumble 0.1.0"), std::string::npos) << version.output;
+  const Result typo = run_cli("rnu scene.yaml");
+  EXPECT_EQ(typo.exit_code, 1);
+  EXPECT_NE(typo.output.find("unknown command 'rnu'"), std::string::npos) << typo.output;
+  EXPECT_NE(typo.output.find("run, validate"), std::string::npos) << typo.output;
+  // Below one frame a second ffmpeg writes no video: refused before anything runs.
+  for (const char* fps : {"1e-9", "0.5", "nan", "2000"}) {
+    const Result r = run_cli("render " + kScenes + "bounce.yaml --fps " + fps + " -o /tmp/x.mp4");
+    EXPECT_EQ(r.exit_code, 1) << fps;
+    EXPECT_NE(r.output.find("--fps"), std::string::npos) << fps << "\n" << r.output;
+  }
+}
+
 // Overrides pass the scene's own checks: a time step below 1e-9 s, a duration beyond 1e9 s, and a
 // step count duration / dt beyond 1e9 are refused by name before anything runs.
 TEST(Cli, OverridesGetTheScenesChecks) {

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "scenes/scene_loader.hpp"
+#include "tumble/model.hpp"
 
 namespace tumble {
 namespace {
@@ -238,6 +239,27 @@ TEST(SceneErrors, MessageFormatForAStringSource) {
   EXPECT_EQ(e.file, "inline.yaml");
   EXPECT_EQ(e.line, 2);
   EXPECT_EQ(e.column, 35);
+}
+
+// A camera target a hair from its position has no view direction: refused with the line, and by
+// check_scene for a scene built in code.
+TEST(SceneErrors, CameraTargetTooCloseToItsPosition) {
+  const SceneError e = error_of(
+      "camera:\n  position: [1, 2, 3]\n  target: [1, 2, 3.0000000000001]\nbodies:\n"
+      "  - shape: {type: sphere, radius: 1}\n");
+  EXPECT_EQ(e.field, "camera.target");
+  EXPECT_EQ(e.line, 3);
+  EXPECT_NE(e.reason.find("within 1e-6 m"), std::string::npos) << e.what();
+  Scene scene = load_scene_string("bodies:\n  - shape: {type: sphere, radius: 1}\n", "code");
+  scene.camera = Camera{};
+  scene.camera->position = Vec3(0, 0, 0);
+  scene.camera->target = Vec3(1e-300, 0, 0);
+  try {
+    check_scene(scene);
+    FAIL() << "a camera 1e-300 m from its target was accepted";
+  } catch (const SceneError& err) {
+    EXPECT_EQ(err.field, "camera.target");
+  }
 }
 
 TEST(SceneErrors, DirectoryCannotBeOpened) {
