@@ -4,6 +4,7 @@
 
 #include "tumble/batch_world.hpp"
 #include "tumble/body_state.hpp"
+#include "tumble/distance.hpp"
 #include "tumble/error.hpp"
 #include "tumble/load_scene.hpp"
 #include "tumble/math.hpp"
