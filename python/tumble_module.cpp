@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "collision/sdf/sdf_tree.hpp"
+#include "scenes/scene_loader.hpp"
+#include "scenes/sdf_section.hpp"
 #include "tumble/tumble.hpp"
 
 namespace py = pybind11;
@@ -36,6 +39,44 @@ tumble::Quat quat(const std::vector<Real>& q) {
     throw py::value_error("orientation: expected 4 numbers (w, x, y, z), got " +
                           std::to_string(q.size()));
   return tumble::Quat(q[0], q[1], q[2], q[3]);
+}
+
+// YAML text from a str as it is, or from a dict or list through JSON (a subset of YAML).
+std::string yaml_of(const py::object& description, const char* what) {
+  if (py::isinstance<py::str>(description))
+    return description.cast<std::string>();
+  if (py::isinstance<py::dict>(description) || py::isinstance<py::list>(description))
+    return py::module_::import("json").attr("dumps")(description).cast<std::string>();
+  throw py::type_error(std::string(what) + ": expected a dict (or YAML text) describing it");
+}
+
+// A pose from 3 numbers (a position) or 7 (position, then orientation w x y z: a
+// trajectory.csv row's order).
+tumble::Transform pose_of(const py::object& pose, const char* what) {
+  const std::vector<Real> v = pose.cast<std::vector<Real>>();
+  if (v.size() != 3 && v.size() != 7)
+    throw py::value_error(std::string(what) +
+                          ": expected 3 numbers (x, y, z) or 7 (x, y, z, qw, qx, qy, qz), got " +
+                          std::to_string(v.size()));
+  for (const Real x : v)
+    if (!std::isfinite(x))
+      throw py::value_error(std::string(what) + ": every number must be finite");
+  tumble::Transform t;
+  t.translation = Vec3(v[0], v[1], v[2]);
+  if (v.size() == 7) {
+    const tumble::Quat q(v[3], v[4], v[5], v[6]);
+    if (std::abs(q.norm() - 1) > 1e-6)
+      throw py::value_error(std::string(what) + ": the orientation must be a unit quaternion");
+    t.rotation = q.normalized();
+  }
+  return t;
+}
+
+py::array_t<Real> array_of(const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, 1>>& v) {
+  py::array_t<Real> out(static_cast<py::ssize_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    out.mutable_at(i) = v[i];
+  return out;
 }
 
 std::shared_ptr<const tumble::Scene> scene_from(const py::object& scene) {
@@ -199,6 +240,88 @@ PYBIND11_MODULE(_tumble, m) {
       py::arg("scene"), py::arg("seed"),
       "The scene with the draws of its randomize block for `seed` (what a BatchWorld world with "
       "that seed steps); a World of it is that world.");
+
+  m.def(
+      "distance",
+      [](const py::object& shape_a, const py::object& pose_a, const py::object& shape_b,
+         const py::object& pose_b) {
+        // Shapes as in a scene; a hull or compound is placed as the scene loader places it, so
+        // that its points are where they were written when the pose is the identity.
+        const auto shape_pose = [](const py::object& shape, const py::object& pose,
+                                   const char* what, const char* pose_what) {
+          Vec3 centre = Vec3::Zero();
+          tumble::Shape s = tumble::load_shape_string(yaml_of(shape, what), what, &centre);
+          tumble::Transform t = pose_of(pose, pose_what);
+          t.translation += t.rotation * centre;
+          return std::make_pair(s, t);
+        };
+        const auto [a, ta] = shape_pose(shape_a, pose_a, "shape_a", "pose_a");
+        const auto [b, tb] = shape_pose(shape_b, pose_b, "shape_b", "pose_b");
+        const tumble::ShapeDistance d = tumble::distance_between(a, ta, b, tb);
+        py::dict out;
+        out["distance"] = d.distance;
+        out["point_a"] = array_of(d.point_a);
+        out["point_b"] = array_of(d.point_b);
+        out["normal"] = array_of(d.normal);
+        out["gradient_a"] = array_of(d.gradient_a);
+        out["gradient_b"] = array_of(d.gradient_b);
+        out["converged"] = d.converged;
+        return out;
+      },
+      py::arg("shape_a"), py::arg("pose_a"), py::arg("shape_b"), py::arg("pose_b"),
+      "Signed distance of two convex shapes (or a convex shape and a plane), written as in a "
+      "scene ({'type': 'box', 'half_extents': [1, 1, 1]}), at poses of 3 numbers (position) or "
+      "7 (position, then w x y z): a dict with distance (negative in penetration), point_a, "
+      "point_b, normal (from B to A), gradient_a and gradient_b (d distance / d pose: "
+      "translation, then rotation about the body's origin, world axes) and converged.");
+
+  py::class_<tumble::SdfTree>(m, "Sdf")
+      .def(py::init([](const py::object& description) {
+             return std::make_unique<tumble::SdfTree>(
+                 tumble::load_sdf_string(yaml_of(description, "Sdf"), "Sdf"));
+           }),
+           py::arg("description"),
+           "A signed distance field from its description as in a scene's `sdf:` field, as a "
+           "dict ({'torus': {'major_radius': 1, 'minor_radius': 0.25}}) or YAML text.")
+      .def(
+          "sample",
+          [](const tumble::SdfTree& tree, const py::object& points_object) {
+            const py::array_t<Real, py::array::c_style | py::array::forcecast> points(
+                points_object);
+            const bool one = points.ndim() == 1;
+            if (!((one && points.shape(0) == 3) || (points.ndim() == 2 && points.shape(1) == 3)))
+              throw py::value_error("points: expected shape (3,) or (N, 3)");
+            const py::ssize_t n = one ? 1 : points.shape(0);
+            py::array_t<Real> distance(n);
+            py::array_t<Real> gradient({n, py::ssize_t(3)});
+            const Real* p = points.data();
+            Real* d = distance.mutable_data();
+            Real* g = gradient.mutable_data();
+            for (py::ssize_t i = 0; i < n; ++i) {
+              const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+              if (!x.allFinite())
+                throw py::value_error("points: every coordinate must be finite");
+              const tumble::sdf::Sample s = tree.sample(x);
+              d[i] = s.distance;
+              for (int k = 0; k < 3; ++k)
+                g[3 * i + k] = s.gradient[k];
+            }
+            if (one)
+              return py::make_tuple(d[0], gradient.attr("reshape")(3));
+            return py::make_tuple(distance, gradient);
+          },
+          py::arg("points"),
+          "The signed distance (negative inside) and its gradient at points (3,) or (N, 3): a "
+          "float or an (N,) array, and (3,) or (N, 3).")
+      .def_property_readonly(
+          "bounds",
+          [](const tumble::SdfTree& tree) {
+            return py::make_tuple(array_of(tree.bounds().min), array_of(tree.bounds().max));
+          },
+          "(min, max) corners of a box holding every point inside (infinite where a half-space "
+          "leaves it open).")
+      .def_property_readonly("exact", &tumble::SdfTree::is_exact,
+                             "Whether the value is the distance everywhere (a lone primitive).");
 
   py::class_<BodyId>(m, "BodyId")
       .def_readonly("index", &BodyId::index)

@@ -172,9 +172,29 @@ Scene Loader::load(std::string_view text, std::span<const FieldOverride> overrid
   return scene;
 }
 
+Shape Loader::load_lone_shape(std::string_view text, Vec3* centre_of_mass) {
+  loaded_shapes_.clear();
+  DocumentBuilder doc;
+  const Node& root = parse(text, doc, "type");
+  YAML::Mark start;
+  start.line = 0;
+  start.column = 0;
+  const Entry whole{"shape", start, root};
+  return load_shape(whole, "shape", centre_of_mass);
+}
+
 }  // namespace scene_yaml
 
 using scene_yaml::Loader;
+
+Shape load_shape_string(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass) {
+  const std::string source(source_name);
+  try {
+    return Loader(source).load_lone_shape(yaml, centre_of_mass);
+  } catch (const YAML::Exception& e) {
+    throw scene_yaml::yaml_syntax_error(e, source);
+  }
+}
 using scene_yaml::read_file;
 using scene_yaml::yaml_syntax_error;
 

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "engine/scene_limits.hpp"
+#include "collision/sdf/sdf_tree.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sweep_file.hpp"
@@ -269,10 +270,16 @@ class Loader {
   std::vector<ShapeQuery> load_queries(std::string_view text);
   // `tumble sweep` files (scenes/sweep_file.hpp).
   SweepSpec load_sweep(std::string_view text);
+  // A signed distance field on its own (scenes/sdf_section.hpp).
+  SdfNode load_sdf(std::string_view text);
+  // A shape on its own (scene_loader.hpp's load_shape_string).
+  Shape load_lone_shape(std::string_view text, Vec3* centre_of_mass);
 
  private:
   ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
   SweepAxis load_sweep_axis(const Entry& e) const;
+  SdfNode load_sdf_node(const Node& node, const YAML::Mark& mark, const std::string& path,
+                        int depth) const;
   SweepPlace place_of(const YAML::Mark& mark) const;
   void load_placed_shape(const Entry& e, const std::string& path, Shape& shape, Transform& pose,
                          Vec3* velocity, Vec3* angular_velocity) const;

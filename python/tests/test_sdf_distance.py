@@ -1,0 +1,89 @@
+"""tumble.Sdf and tumble.distance from Python: values against closed forms, gradients against
+central differences, and bad input refused with the library's errors."""
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+
+def test_a_torus_field_is_the_closed_form_with_its_gradient():
+    sdf = tumble.Sdf({"torus": {"major_radius": 1.0, "minor_radius": 0.25}})
+    assert sdf.exact
+    rng = np.random.default_rng(1)
+    points = rng.uniform(-2, 2, size=(2000, 3))
+    phi, grad = sdf.sample(points)
+    rho = np.hypot(points[:, 0], points[:, 1])
+    expected = np.hypot(rho - 1.0, points[:, 2]) - 0.25
+    np.testing.assert_allclose(phi, expected, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(grad, axis=1), 1.0, atol=1e-12)
+    h = 1e-6
+    for k in range(3):
+        step = np.zeros(3)
+        step[k] = h
+        fd = (sdf.sample(points + step)[0] - sdf.sample(points - step)[0]) / (2 * h)
+        np.testing.assert_allclose(grad[:, k], fd, atol=1e-6)
+    one_phi, one_grad = sdf.sample([1.0, 0.0, 0.0])
+    assert one_phi == pytest.approx(-0.25) and one_grad.shape == (3,)
+    low, high = sdf.bounds
+    np.testing.assert_allclose(high, [1.25, 1.25, 0.25])
+
+
+def test_csg_from_yaml_text_and_its_errors():
+    bowl = tumble.Sdf("difference: [{box: {half_extents: [1, 1, 0.5]}},"
+                      " {sphere: {radius: 0.9}, position: [0, 0, 0.6]}]")
+    assert not bowl.exact
+    assert bowl.sample([0, 0, 0.3])[0] > 0  # the hollow
+    assert bowl.sample([0, 0, -0.4])[0] < 0  # the bottom
+    with pytest.raises(tumble.SceneError, match="sdf.sphere.radius"):
+        tumble.Sdf({"sphere": {"radius": -1}})
+    with pytest.raises(TypeError):
+        tumble.Sdf(3)
+    with pytest.raises(ValueError, match="points"):
+        bowl.sample(np.zeros((4, 2)))
+    with pytest.raises(ValueError, match="finite"):
+        bowl.sample([math.nan, 0, 0])
+
+
+def test_distance_of_two_spheres_is_the_closed_form():
+    d = tumble.distance({"type": "sphere", "radius": 0.5}, [0, 0, 0],
+                        {"type": "sphere", "radius": 0.25}, [1, 2, 2])
+    assert d["distance"] == pytest.approx(3 - 0.75, abs=1e-12)
+    np.testing.assert_allclose(d["gradient_b"][:3], [1 / 3, 2 / 3, 2 / 3], atol=1e-12)
+    np.testing.assert_allclose(d["normal"], [-1 / 3, -2 / 3, -2 / 3], atol=1e-12)
+    assert d["converged"]
+
+
+def test_distance_gradients_match_central_differences():
+    rng = np.random.default_rng(2)
+    box = {"type": "box", "half_extents": [0.5, 0.3, 0.2]}
+    hull = {"type": "hull", "points": rng.uniform(-0.5, 0.5, size=(12, 3)).tolist()}
+    h = 1e-6
+    for _ in range(50):
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        pose_a = [0.0, 0.0, 0.0, *q]
+        pose_b = rng.uniform(-1, 1, size=3).tolist()
+        d = tumble.distance(box, pose_a, hull, pose_b)
+        for k in range(3):
+            plus = list(pose_b)
+            minus = list(pose_b)
+            plus[k] += h
+            minus[k] -= h
+            fd = (tumble.distance(box, pose_a, hull, plus)["distance"] -
+                  tumble.distance(box, pose_a, hull, minus)["distance"]) / (2 * h)
+            assert d["gradient_b"][k] == pytest.approx(fd, abs=1e-5)
+
+
+def test_distance_refuses_what_it_cannot_answer():
+    sphere = {"type": "sphere", "radius": 1}
+    with pytest.raises(tumble.Error, match="only convex"):
+        tumble.distance({"type": "compound", "parts": [{"shape": sphere}, {"shape": sphere,
+                         "position": [1, 0, 0]}]}, [0, 0, 0], sphere, [0, 0, 3])
+    with pytest.raises(ValueError, match="pose_b"):
+        tumble.distance(sphere, [0, 0, 0], sphere, [0, 0])
+    with pytest.raises(ValueError, match="unit quaternion"):
+        tumble.distance(sphere, [0, 0, 0, 2, 0, 0, 0], sphere, [0, 0, 3])
+    with pytest.raises(tumble.SceneError, match="shape_a"):
+        tumble.distance({"type": "sphere", "radius": -1}, [0, 0, 0], sphere, [0, 0, 3])

@@ -1,0 +1,146 @@
+// Signed distance fields in YAML (scenes/sdf_section.hpp), read with the scene loader's strict
+// readers; the tree's own checks (collision/sdf/sdf_tree.hpp) then find nothing a field did not.
+#include "scenes/sdf_section.hpp"
+
+#include "scenes/yaml_reader.hpp"
+
+namespace tumble {
+namespace scene_yaml {
+namespace {
+
+constexpr std::array<std::string_view, 10> kSdfKinds{
+    "sphere", "box",   "capsule",      "cylinder",   "torus",
+    "plane",  "union", "intersection", "difference", "smooth_union"};
+constexpr std::array<std::string_view, 1> kRadiusKeys{"radius"};
+constexpr std::array<std::string_view, 1> kHalfExtentsKeys{"half_extents"};
+constexpr std::array<std::string_view, 2> kRadiusLengthKeys{"radius", "half_length"};
+constexpr std::array<std::string_view, 2> kTorusKeys{"major_radius", "minor_radius"};
+constexpr std::array<std::string_view, 2> kSmoothKeys{"k", "of"};
+constexpr RealSpec kSharpness{"a sharpness in 1/m", "greater than 0, at most 1e9", 0, 1e9, true};
+
+}  // namespace
+
+SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const std::string& path,
+                              int depth) const {
+  if (depth > SdfTree::kMaxDepth)
+    fail(mark, path, "SDF nodes nested deeper than " + std::to_string(SdfTree::kMaxDepth));
+  const Fields f = read_map(node, mark, path,
+                            "an SDF node: a map with one of sphere, box, capsule, cylinder, torus, "
+                            "plane, union, intersection, difference, smooth_union",
+                            false);
+  const Entry* kind = nullptr;
+  for (const Entry& e : f.entries) {
+    if (e.key == "position" || e.key == "orientation")
+      continue;
+    if (!contains(kSdfKinds, e.key)) {
+      std::vector<std::string_view> allowed(kSdfKinds.begin(), kSdfKinds.end());
+      allowed.push_back("position");
+      allowed.push_back("orientation");
+      check_known(f, allowed);
+    }
+    if (kind != nullptr)
+      fail(e.key_mark, child(path, e.key),
+           "an SDF node has one kind; this one already is a '" + kind->key + "'");
+    kind = &e;
+  }
+  if (kind == nullptr)
+    fail(f.mark, path,
+         "an SDF node needs a kind: one of sphere, box, capsule, cylinder, torus, plane, union, "
+         "intersection, difference, smooth_union");
+  const std::string here = child(path, kind->key);
+  SdfNode n;
+  const auto require = [&](const Fields& params, std::string_view key) -> const Entry& {
+    const Entry* x = params.find(key);
+    if (x == nullptr)
+      fail(params.mark, child(here, key), "missing required field '" + std::string(key) + "'");
+    return *x;
+  };
+  const auto operands = [&](const Entry& list, const std::string& list_path) {
+    if (!list.value.is_sequence() || list.value.size() < 2)
+      fail(list.mark(), list_path,
+           "expected a list of at least two SDF nodes, got " + describe(list.value));
+    std::vector<SdfNode> out;
+    for (std::size_t i = 0; i < list.value.items.size(); ++i) {
+      const Node& item = *list.value.items[i];
+      out.push_back(
+          load_sdf_node(item, mark_or(item, list.mark()), index(list_path, i), depth + 1));
+    }
+    return out;
+  };
+  const std::string& k = kind->key;
+  if (k == "union" || k == "intersection" || k == "difference") {
+    const SdfKind op = k == "union"          ? SdfKind::union_of
+                       : k == "intersection" ? SdfKind::intersection_of
+                                             : SdfKind::difference_of;
+    n = SdfNode::combine(op, operands(*kind, here));
+  } else if (k == "smooth_union") {
+    const Fields params = read_map(kind->value, kind->mark(), here, "{k, of: [nodes]}", false);
+    check_known(params, kSmoothKeys);
+    const Real sharpness = read_real(require(params, "k"), child(here, "k"), kSharpness);
+    n = SdfNode::combine(SdfKind::smooth_union_of,
+                         operands(require(params, "of"), child(here, "of")), sharpness);
+  } else {
+    const Fields params = read_map(kind->value, kind->mark(), here, "the primitive's sizes", true);
+    if (k == "sphere") {
+      check_known(params, kRadiusKeys);
+      n = SdfNode::sphere(read_real(require(params, "radius"), child(here, "radius"), kSize));
+    } else if (k == "box") {
+      check_known(params, kHalfExtentsKeys);
+      n = SdfNode::box(read_vector<3>(require(params, "half_extents"), child(here, "half_extents"),
+                                      "[x, y, z]", "metres", kSize));
+    } else if (k == "capsule" || k == "cylinder") {
+      check_known(params, kRadiusLengthKeys);
+      const Real r = read_real(require(params, "radius"), child(here, "radius"), kSize);
+      const Real h = read_real(require(params, "half_length"), child(here, "half_length"), kSize);
+      n = k == "capsule" ? SdfNode::capsule(r, h) : SdfNode::cylinder(r, h);
+    } else if (k == "torus") {
+      check_known(params, kTorusKeys);
+      const Entry& major = require(params, "major_radius");
+      const Entry& minor = require(params, "minor_radius");
+      const Real big = read_real(major, child(here, "major_radius"), kSize);
+      const Real small = read_real(minor, child(here, "minor_radius"), kSize);
+      if (!(small < big))
+        fail(minor.mark(), child(here, "minor_radius"),
+             "expected less than major_radius " + fmt(big) + " (a ring torus), got " + fmt(small));
+      n = SdfNode::torus(big, small);
+    } else {  // plane
+      check_known(params, {});
+      n = SdfNode::plane();
+    }
+  }
+  if (const Entry* x = f.find("position"))
+    n.pose.translation =
+        read_vector<3>(*x, child(path, "position"), "[x, y, z]", "metres", kCoordinate);
+  if (const Entry* x = f.find("orientation"))
+    n.pose.rotation = read_orientation(*x, child(path, "orientation"));
+  return n;
+}
+
+SdfNode Loader::load_sdf(std::string_view text) {
+  DocumentBuilder doc;
+  const Node& root = parse(text, doc, "sdf");
+  YAML::Mark start;
+  start.line = 0;
+  start.column = 0;
+  SdfNode n = load_sdf_node(root, mark_or(root, start), "sdf", 1);
+  try {
+    (void)SdfTree(n);  // every size was read against its range; this finds nothing new
+  } catch (const Error& e) {
+    fail(start, "sdf", e.what());
+  }
+  return n;
+}
+
+}  // namespace scene_yaml
+
+SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name) {
+  const std::string source(source_name);
+  scene_yaml::Loader loader{source};
+  try {
+    return loader.load_sdf(yaml);
+  } catch (const YAML::Exception& e) {
+    throw scene_yaml::yaml_syntax_error(e, source);
+  }
+}
+
+}  // namespace tumble

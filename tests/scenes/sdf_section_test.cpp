@@ -1,0 +1,89 @@
+// Signed distance fields in YAML (scenes/sdf_section.hpp): the documented forms read to the
+// trees they describe (compared by value with trees built in code), and every mistake named by
+// line and field.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+
+#include "scenes/sdf_section.hpp"
+#include "tumble/error.hpp"
+
+namespace tumble {
+namespace {
+
+void expect_same_field(const SdfTree& a, const SdfTree& b) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const sdf::Sample x = a.sample(p), y = b.sample(p);
+    ASSERT_EQ(x.distance, y.distance);
+    ASSERT_EQ(x.gradient, y.gradient);
+  }
+}
+
+TEST(SdfYaml, TheDocumentedFormsReadToTheirTrees) {
+  expect_same_field(
+      SdfTree(load_sdf_string("{torus: {major_radius: 1.0, minor_radius: 0.25}}", "t")),
+      SdfTree(SdfNode::torus(1.0, 0.25)));
+  expect_same_field(
+      SdfTree(load_sdf_string("{difference: [{box: {half_extents: [1, 1, 0.5]}},\n"
+                              "              {sphere: {radius: 0.9}, position: [0, 0, 0.6]}]}",
+                              "bowl")),
+      SdfTree(
+          SdfNode::combine(SdfKind::difference_of,
+                           {SdfNode::box(Vec3(1, 1, 0.5)),
+                            SdfNode::sphere(0.9).placed({Vec3(0, 0, 0.6), Quat::Identity()})})));
+  expect_same_field(
+      SdfTree(load_sdf_string("{smooth_union: {k: 8, of: [{sphere: {radius: 0.5}},\n"
+                              "  {capsule: {radius: 0.2, half_length: 0.6}}]}}",
+                              "blob")),
+      SdfTree(SdfNode::combine(SdfKind::smooth_union_of,
+                               {SdfNode::sphere(0.5), SdfNode::capsule(0.2, 0.6)}, 8)));
+  const Quat turn(std::sqrt(0.5), std::sqrt(0.5), 0, 0);
+  expect_same_field(
+      SdfTree(load_sdf_string(
+          "intersection:\n  - {cylinder: {radius: 1, half_length: 2}, orientation: "
+          "[0.7071067811865476, "
+          "0.7071067811865476, 0, 0]}\n  - {plane: {}, position: [0, 0, 0.5]}\n"
+          "  - union: [{sphere: {radius: 1.5}}, {box: {half_extents: [2, 0.1, 0.1]}}]\n",
+          "cut")),
+      SdfTree(SdfNode::combine(
+          SdfKind::intersection_of,
+          {SdfNode::cylinder(1, 2).placed({Vec3::Zero(), turn.normalized()}),
+           SdfNode::plane().placed({Vec3(0, 0, 0.5), Quat::Identity()}),
+           SdfNode::combine(SdfKind::union_of,
+                            {SdfNode::sphere(1.5), SdfNode::box(Vec3(2, 0.1, 0.1))})})));
+}
+
+TEST(SdfYaml, MistakesNameTheLineAndField) {
+  const auto expect = [](const std::string& yaml, const std::string& where,
+                         const std::string& what) {
+    try {
+      load_sdf_string(yaml, "s.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect("{sphere: {radius: -1}}", "field 'sdf.sphere.radius'", "got -1");
+  expect("{torus: {major_radius: 1, minor_radius: 1}}", "sdf.torus.minor_radius", "ring torus");
+  expect("{spher: {radius: 1}}", "field 'sdf.spher'", "did you mean 'sphere'");
+  expect("{sphere: {radius: 1}, box: {half_extents: [1, 1, 1]}}", "sdf.box", "one kind");
+  expect("{position: [0, 0, 1]}", "field 'sdf'", "needs a kind");
+  expect("union:\n  - {sphere: {radius: 1}}\n", "s.yaml:2:3: field 'sdf.union'", "at least two");
+  expect("difference:\n  - {sphere: {radius: 1}}\n  - {box: {half_extents: [1, 0, 1]}}\n",
+         "s.yaml:3:", "sdf.difference[1].box.half_extents[1]");
+  expect("{smooth_union: {k: 0, of: [{sphere: {radius: 1}}, {sphere: {radius: 2}}]}}",
+         "sdf.smooth_union.k", "greater than 0");
+  expect("{sphere: {radius: 1}, orientation: [1, 1, 0, 0]}", "sdf.orientation", "unit quaternion");
+  std::string deep = "{sphere: {radius: 1}}";
+  for (int i = 0; i < 70; ++i)
+    deep = "{union: [" + deep + ", {sphere: {radius: 1}}]}";
+  expect(deep, "s.yaml", "deeper than 64");
+}
+
+}  // namespace
+}  // namespace tumble
