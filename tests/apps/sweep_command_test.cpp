@@ -152,6 +152,25 @@ TEST(SweepCommand, ARestartRedoesOnlyWhatIsMissingAndEndsTheSame) {
   EXPECT_NE(changed.text.find("0 already complete, 12 to run"), std::string::npos) << changed.text;
 }
 
+// The shipped example (README.md, docs/scale-out.md) runs: one row per combination, each with an
+// error against its reference.
+TEST(SweepCommand, TheShippedStudyRuns) {
+  const fs::path out = fs::temp_directory_path() / "tumble_sweep_shipped";
+  fs::remove_all(out);
+  const CommandOutput r =
+      run_tumble_command(std::string("sweep ") + TUMBLE_SOURCE_DIR +
+                         "/scenes/sweeps/stack10_study.yaml -q -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const auto rows = csv_rows(out / "sweep.csv");
+  ASSERT_EQ(rows.size(), 1u + 2 * 2 * 3);
+  const std::size_t error = column(rows[0], "error_m");
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][column(rows[0], "status")], "ok");
+    EXPECT_GT(std::stod(rows[i][error]), 0.0);  // none of them is its reference
+  }
+  fs::remove_all(out);
+}
+
 TEST(SweepCommand, BadSweepsAreRefusedBeforeAnyRun) {
   const SweepDir d("tumble_sweep_errors");
   const auto refused = [&](const std::string& yaml, const std::string& expected) {
