@@ -48,7 +48,7 @@ class MpiWorkPool final : public WorkPool {
   std::vector<std::string> run(std::span<const std::size_t> order,
                                const std::function<std::string(std::size_t)>& task) override {
     if (ranks_ == 1) {
-      return run_here(order, task);
+      return run_tasks_here(order, task, "rank 0: ");
     }
     if (rank_ == 0) {
       return coordinate(order);
@@ -69,19 +69,6 @@ class MpiWorkPool final : public WorkPool {
   }
 
  private:
-  std::vector<std::string> run_here(std::span<const std::size_t> order,
-                                    const std::function<std::string(std::size_t)>& task) {
-    std::vector<std::string> results;
-    for (const std::size_t i : order) {
-      try {
-        results.push_back(task(i));
-      } catch (const std::exception& e) {
-        throw WorkError("rank 0: task " + std::to_string(i) + ": " + e.what());
-      }
-    }
-    return results;
-  }
-
   std::vector<std::string> coordinate(std::span<const std::size_t> order) {
     std::vector<std::string> results(order.size());
     std::unordered_map<std::size_t, std::size_t> slot;

@@ -15,16 +15,7 @@ class LocalWorkPool final : public WorkPool {
   int ranks() const override { return 1; }
   std::vector<std::string> run(std::span<const std::size_t> order,
                                const std::function<std::string(std::size_t)>& task) override {
-    std::vector<std::string> results;
-    results.reserve(order.size());
-    for (const std::size_t i : order) {
-      try {
-        results.push_back(task(i));
-      } catch (const std::exception& e) {
-        throw WorkError("task " + std::to_string(i) + ": " + e.what());
-      }
-    }
-    return results;
+    return run_tasks_here(order, task, "");
   }
   std::string agree(const std::string& message) override { return message; }
 };
@@ -41,6 +32,21 @@ bool launched_by_mpi() {
 }
 
 }  // namespace
+
+std::vector<std::string> run_tasks_here(std::span<const std::size_t> order,
+                                        const std::function<std::string(std::size_t)>& task,
+                                        const std::string& who) {
+  std::vector<std::string> results;
+  results.reserve(order.size());
+  for (const std::size_t i : order) {
+    try {
+      results.push_back(task(i));
+    } catch (const std::exception& e) {
+      throw WorkError(who + "task " + std::to_string(i) + ": " + e.what());
+    }
+  }
+  return results;
+}
 
 bool mpi_available() {
 #ifdef TUMBLE_HAVE_MPI

@@ -40,6 +40,12 @@ class WorkPool {
   virtual std::string agree(const std::string& message) = 0;
 };
 
+// Every task of `order` in turn in this process, results in that order; a task that throws
+// becomes WorkError with `who` ("" or "rank 0: "), the task and the message.
+std::vector<std::string> run_tasks_here(std::span<const std::size_t> order,
+                                        const std::function<std::string(std::size_t)>& task,
+                                        const std::string& who);
+
 // MPI when this process was started by an MPI launcher (mpirun, mpiexec, srun) and the build has
 // MPI; one process otherwise. Throws WorkError when launched by MPI into a build without it.
 std::unique_ptr<WorkPool> make_work_pool();

@@ -1,7 +1,6 @@
 // The capsule's row of the shape table (collision/shapes/shape_ops.hpp): the segment from
 // (0, 0, -half_length) to (0, 0, half_length) swept by a sphere of `radius`.
 #include <algorithm>
-#include <limits>
 #include <numbers>
 
 #include "collision/shapes/shape_rows.hpp"
@@ -52,14 +51,9 @@ Real bounding_radius(const Shape& s) {
 ShapeRayHit ray(const Shape& s, const Vec3& o, const Vec3& d) {
   const Real r = s.radius;
   const Real hl = s.half_length;
-  Real best = std::numeric_limits<Real>::infinity();
-  Vec3 normal = Vec3::UnitZ();
+  Vec3 normal;
+  Real best = shape_geometry::disc_side_hit(o, d, r, hl, normal);
   Real t = 0;
-  Vec3 side_normal;
-  if (shape_geometry::disc_side_hit(o, d, r, hl, t, side_normal)) {
-    best = t;
-    normal = side_normal;
-  }
   for (Real end : {-hl, hl}) {
     const Vec3 centre(0, 0, end);
     if (shape_geometry::sphere_hit(o - centre, d, r, t) && t < best) {

@@ -2,7 +2,6 @@
 // -half_length to half_length.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "collision/shapes/shape_rows.hpp"
@@ -55,14 +54,8 @@ Real bounding_radius(const Shape& s) {
 ShapeRayHit ray(const Shape& s, const Vec3& o, const Vec3& d) {
   const Real r = s.radius;
   const Real hl = s.half_length;
-  Real best = std::numeric_limits<Real>::infinity();
-  Vec3 normal = Vec3::UnitZ();
-  Real t = 0;
-  Vec3 side_normal;
-  if (shape_geometry::disc_side_hit(o, d, r, hl, t, side_normal)) {
-    best = t;
-    normal = side_normal;
-  }
+  Vec3 normal;
+  Real best = shape_geometry::disc_side_hit(o, d, r, hl, normal);
   // Caps: entering through z = +hl moving down, or z = -hl moving up.
   for (const Real side : {Real(-1), Real(1)}) {
     if (d.z() * side >= 0)

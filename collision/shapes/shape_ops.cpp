@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "collision/shapes/shape_rows.hpp"
 
@@ -37,17 +38,18 @@ bool sphere_hit(const Vec3& o, const Vec3& d, Real r, Real& t) {
   return t >= 0 && t <= 1;
 }
 
-bool disc_side_hit(const Vec3& o, const Vec3& d, Real radius, Real half_length, Real& t,
-                   Vec3& normal) {
+Real disc_side_hit(const Vec3& o, const Vec3& d, Real radius, Real half_length, Vec3& normal) {
+  normal = Vec3::UnitZ();
   const Vec3 oxy(o.x(), o.y(), 0);
   const Vec3 dxy(d.x(), d.y(), 0);
+  Real t = 0;
   if (!sphere_hit(oxy, dxy, radius, t))
-    return false;
+    return std::numeric_limits<Real>::infinity();
   const Real z = o.z() + t * d.z();
   if (z < -half_length || z > half_length)
-    return false;
+    return std::numeric_limits<Real>::infinity();
   normal = (oxy + t * dxy) / radius;
-  return true;
+  return t;
 }
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
