@@ -6,7 +6,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <thread>
 #include <unordered_map>
 
@@ -20,6 +22,15 @@ constexpr int kAssignTag = 2;   // coordinator to worker: a task index, or kStop
 constexpr std::uint64_t kStop = ~std::uint64_t{0};
 
 enum Kind : std::uint64_t { first_request = 0, result = 1, failure = 2 };
+
+// How many processes the launcher says it started (0 when it does not say).
+int launcher_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_NTASKS"}) {
+    if (const char* value = std::getenv(name))
+      return std::atoi(value);
+  }
+  return 0;
+}
 
 std::string message(Kind kind, std::uint64_t task, const std::string& payload) {
   std::string bytes(2 * sizeof(std::uint64_t), '\0');
@@ -37,6 +48,16 @@ class MpiWorkPool final : public WorkPool {
     MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+    // A launcher of another MPI (MPICH's mpiexec starting an Open MPI build, or the reverse)
+    // starts N processes that each see a world of one: every one would run the whole job into
+    // the same directory. Refuse instead.
+    const int launched = launcher_size();
+    if (launched > 1 && ranks_ == 1) {
+      MPI_Finalize();
+      throw WorkError("started as one of " + std::to_string(launched) +
+                      " processes, but MPI sees a world of one: the launcher is not of the MPI "
+                      "this build uses (Open MPI's mpirun for an Open MPI build)");
+    }
   }
   ~MpiWorkPool() override { MPI_Finalize(); }
   MpiWorkPool(const MpiWorkPool&) = delete;

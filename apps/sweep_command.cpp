@@ -121,14 +121,28 @@ Plan plan_runs(const SweepSpec& spec) {
   return plan;
 }
 
+// FNV-1a of the scene file's bytes, so that a run of an edited scene is not taken for a run of
+// the old one. (Files the scene names, meshes and hulls, are not part of it.)
+std::string scene_digest(const SweepSpec& spec) {
+  std::ifstream in(spec.scene, std::ios::binary);
+  std::uint64_t h = 1469598103934665603ull;
+  for (char c; in.get(c);) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return hash_hex(h);
+}
+
 // The inputs a run's outputs depend on; a run directory whose summary records other inputs
-// (an earlier sweep into the same directory) is run again.
-json identity(const SweepSpec& spec, const PlannedRun& run, int threads) {
+// (an earlier sweep into the same directory, or the same sweep of an edited scene) is run again.
+json identity(const SweepSpec& spec, const std::string& digest, const PlannedRun& run,
+              int threads) {
   json overrides = json::array();
   for (const FieldOverride& o : run.overrides)
     overrides.push_back({o.field, o.value});
   return {{"run", run.name},
           {"scene", spec.scene.string()},
+          {"scene_digest", digest},
           {"overrides", overrides},
           {"seed", run.seed ? json(*run.seed) : json(nullptr)},
           {"duration", spec.duration ? json(*spec.duration) : json(nullptr)},
@@ -185,10 +199,13 @@ void remove_leftovers(const std::filesystem::path& dir) {
 }
 
 // Runs one planned run into its directory; returns its wall time in seconds.
-double execute(const SweepSpec& spec, const PlannedRun& run, const std::filesystem::path& out,
-               int threads, int rank) {
+double execute(const SweepSpec& spec, const std::string& digest, const PlannedRun& run,
+               const std::filesystem::path& out, int threads, int rank) {
   const std::filesystem::path dir = out / run.name;
   std::filesystem::create_directories(dir);
+  // The summary goes first: until this run writes its own, the directory holds no complete run
+  // (an older sweep's summary beside this run's new checkpoints would pass for one).
+  std::filesystem::remove(dir / "summary.json");
   remove_leftovers(dir);
   const std::shared_ptr<const Scene> scene = scene_of(spec, run, threads);
   const std::int64_t steps = scene_steps(*scene);
@@ -223,14 +240,16 @@ double execute(const SweepSpec& spec, const PlannedRun& run, const std::filesyst
       o << '\n';
     }
   };
-  json result = {{"sweep", identity(spec, run, threads)}};
+  json result = {{"sweep", identity(spec, digest, run, threads)}};
   const auto start = std::chrono::steady_clock::now();
   if (trajectory)
     trajectory->record(world.state());
   std::size_t next_mark = 0;
+  std::int64_t done = 0;
   try {
     for (std::int64_t k = 1; k <= steps; ++k) {
       world.step();
+      done = k;
       summary.add_step(world.last_step_statistics());
       if (trajectory)
         trajectory->record(world.state());
@@ -250,12 +269,13 @@ double execute(const SweepSpec& spec, const PlannedRun& run, const std::filesyst
   if (trajectory)
     trajectory->finish();
   checkpoints.commit();
-  write_file_atomically(dir / "timing.json",
-                        json({{"rank", rank},
-                              {"wall_seconds", wall},
-                              {"seconds_per_step", wall / static_cast<double>(steps)}})
-                                .dump(2) +
-                            "\n");
+  write_file_atomically(
+      dir / "timing.json",
+      json({{"rank", rank},
+            {"wall_seconds", wall},
+            {"seconds_per_step", wall / static_cast<double>(std::max<std::int64_t>(done, 1))}})
+              .dump(2) +
+          "\n");
   // Last: the summary marks the run complete.
   write_file_atomically(dir / "summary.json", result.dump(2) + "\n");
   return wall;
@@ -406,7 +426,11 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
       std::string values;
       for (const FieldOverride& o : run.overrides)
         values += (values.empty() ? "" : ", ") + o.field + ": " + o.value;
-      throw SceneError(spec.source.string(), 0, 0, run.name,
+      // A reference's fields are written on the `reference` line; a run's combination on no
+      // one line (each of its values alone was checked above).
+      const bool reference = run.values.empty();
+      throw SceneError(spec.source.string(), reference ? spec.reference_place.line : 0,
+                       reference ? spec.reference_place.column : 0, run.name,
                        "the run {" + values + "} does not make a valid scene: " + e.what());
     }
   }
@@ -424,6 +448,7 @@ int sweep_command(const SweepOptions& options) {
   std::unique_ptr<WorkPool> pool = make_work_pool();
   std::optional<SweepSpec> spec;
   std::optional<Plan> plan;
+  std::string digest;
   std::vector<std::size_t> order;
   std::size_t complete = 0;
   if (pool->is_coordinator()) {
@@ -434,9 +459,11 @@ int sweep_command(const SweepOptions& options) {
       plan = plan_runs(*spec);
       const std::vector<double> cost =
           check_sweep(*spec, *plan, options.output_dir, options.threads);
+      digest = scene_digest(*spec);
       for (std::size_t i = 0; i < plan->runs.size(); ++i) {
         const PlannedRun& run = plan->runs[i];
-        if (is_complete(options.output_dir / run.name, identity(*spec, run, options.threads)))
+        if (is_complete(options.output_dir / run.name,
+                        identity(*spec, digest, run, options.threads)))
           ++complete;
         else
           order.push_back(i);
@@ -469,9 +496,10 @@ int sweep_command(const SweepOptions& options) {
       // the file cannot be read says so (the coordinator names the rank).
       spec = load_sweep_file(options.spec);
       plan = plan_runs(*spec);
+      digest = scene_digest(*spec);
     }
     const double wall =
-        execute(*spec, plan->runs.at(i), options.output_dir, options.threads, pool->rank());
+        execute(*spec, digest, plan->runs.at(i), options.output_dir, options.threads, pool->rank());
     return format_number(wall);
   };
   const auto running = Clock::now();

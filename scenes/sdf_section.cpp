@@ -16,6 +16,12 @@ constexpr std::array<std::string_view, 1> kHalfExtentsKeys{"half_extents"};
 constexpr std::array<std::string_view, 2> kRadiusLengthKeys{"radius", "half_length"};
 constexpr std::array<std::string_view, 2> kTorusKeys{"major_radius", "minor_radius"};
 constexpr std::array<std::string_view, 2> kSmoothKeys{"k", "of"};
+// SdfTree's own limits (collision/sdf/sdf_tree.hpp: kMaxSize), read here so that a size beyond
+// them is blamed on its line.
+constexpr RealSpec kSdfSize{"a positive number in metres", "1e-9 to 1e6", kMinSize,
+                            SdfTree::kMaxSize};
+constexpr RealSpec kSdfCoordinate{"a coordinate in metres", "-1e6 to 1e6", -SdfTree::kMaxSize,
+                                  SdfTree::kMaxSize};
 constexpr RealSpec kSharpness{"a sharpness in 1/m", "greater than 0, at most 1e9", 0, 1e9, true};
 
 }  // namespace
@@ -83,22 +89,23 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
     const Fields params = read_map(kind->value, kind->mark(), here, "the primitive's sizes", true);
     if (k == "sphere") {
       check_known(params, kRadiusKeys);
-      n = SdfNode::sphere(read_real(require(params, "radius"), child(here, "radius"), kSize));
+      n = SdfNode::sphere(read_real(require(params, "radius"), child(here, "radius"), kSdfSize));
     } else if (k == "box") {
       check_known(params, kHalfExtentsKeys);
       n = SdfNode::box(read_vector<3>(require(params, "half_extents"), child(here, "half_extents"),
-                                      "[x, y, z]", "metres", kSize));
+                                      "[x, y, z]", "metres", kSdfSize));
     } else if (k == "capsule" || k == "cylinder") {
       check_known(params, kRadiusLengthKeys);
-      const Real r = read_real(require(params, "radius"), child(here, "radius"), kSize);
-      const Real h = read_real(require(params, "half_length"), child(here, "half_length"), kSize);
+      const Real r = read_real(require(params, "radius"), child(here, "radius"), kSdfSize);
+      const Real h =
+          read_real(require(params, "half_length"), child(here, "half_length"), kSdfSize);
       n = k == "capsule" ? SdfNode::capsule(r, h) : SdfNode::cylinder(r, h);
     } else if (k == "torus") {
       check_known(params, kTorusKeys);
       const Entry& major = require(params, "major_radius");
       const Entry& minor = require(params, "minor_radius");
-      const Real big = read_real(major, child(here, "major_radius"), kSize);
-      const Real small = read_real(minor, child(here, "minor_radius"), kSize);
+      const Real big = read_real(major, child(here, "major_radius"), kSdfSize);
+      const Real small = read_real(minor, child(here, "minor_radius"), kSdfSize);
       if (!(small < big))
         fail(minor.mark(), child(here, "minor_radius"),
              "expected less than major_radius " + fmt(big) + " (a ring torus), got " + fmt(small));
@@ -110,7 +117,7 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
   }
   if (const Entry* x = f.find("position"))
     n.pose.translation =
-        read_vector<3>(*x, child(path, "position"), "[x, y, z]", "metres", kCoordinate);
+        read_vector<3>(*x, child(path, "position"), "[x, y, z]", "metres", kSdfCoordinate);
   if (const Entry* x = f.find("orientation"))
     n.pose.rotation = read_orientation(*x, child(path, "orientation"));
   return n;
@@ -124,7 +131,7 @@ SdfNode Loader::load_sdf(std::string_view text) {
   start.column = 0;
   SdfNode n = load_sdf_node(root, mark_or(root, start), "sdf", 1);
   try {
-    (void)SdfTree(n);  // every size was read against its range; this finds nothing new
+    (void)SdfTree(n);  // every field was read against the tree's own ranges: nothing new here
   } catch (const Error& e) {
     fail(start, "sdf", e.what());
   }

@@ -42,7 +42,9 @@ std::string node_text(const Node& n) {
     case Node::Kind::null:
       return "null";
     case Node::Kind::scalar: {
-      if (!n.is_string()) {
+      // A plain scalar goes back as written unless it holds a character that would end it
+      // inside a flow collection ({name: steel, polished} would read as two fields).
+      if (!n.is_string() && n.scalar.find_first_of(",[]{}#:") == std::string::npos) {
         return n.scalar;
       }
       std::string quoted = "\"";

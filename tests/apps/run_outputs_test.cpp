@@ -22,7 +22,11 @@ namespace {
 namespace fs = std::filesystem;
 
 int run_tumble(const std::string& arguments) {
-  const std::string command = std::string(TUMBLE_CLI) + " " + arguments + " > /dev/null 2>&1";
+  // Built by appending: GCC 12 warns (falsely) on a chain of + starting from a literal here.
+  std::string command = TUMBLE_CLI;
+  command += ' ';
+  command += arguments;
+  command += " > /dev/null 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }

@@ -145,6 +145,11 @@ TEST(SweepCommand, ARestartRedoesOnlyWhatIsMissingAndEndsTheSame) {
   EXPECT_EQ(rows[1][column(rows[0], "seed")], "0");
   EXPECT_EQ(rows[2][column(rows[0], "seed")], "1");
   EXPECT_NE(rows[1][hash], rows[2][hash]);
+  // An edited scene runs again: the summaries record the scene file's digest.
+  std::ofstream(d.root / "scene.yaml") << kScene << "# edited\n";
+  const CommandOutput edited = run_tumble_command("sweep " + spec.string() + " -o " + out_dir);
+  ASSERT_EQ(edited.exit_code, 0) << edited.text;
+  EXPECT_NE(edited.text.find("0 already complete, 12 to run"), std::string::npos) << edited.text;
   // A changed sweep in the same directory runs again: the summaries record their inputs.
   d.write_spec(std::string(kSpec) + "seeds: 2\nduration: 0.2\n");
   const CommandOutput changed = run_tumble_command("sweep " + spec.string() + " -o " + out_dir);
@@ -190,7 +195,7 @@ TEST(SweepCommand, BadSweepsAreRefusedBeforeAnyRun) {
           "an empty range");
   refused("scene: missing.yaml\nvary:\n  world.dt: [0.01]\n", "missing.yaml: cannot open");
   refused("scene: scene.yaml\nvary:\n  world.dt: [0.01]\nreference: {world.substeps: 0}\n",
-          "references/0000");
+          "sweep.yaml:4:12: field 'references/0000'");
   // An output directory that cannot be made.
   const fs::path spec = d.write_spec("scene: scene.yaml\nvary:\n  world.dt: [0.01]\n");
   std::ofstream(d.root / "file") << "x";

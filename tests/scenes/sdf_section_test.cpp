@@ -69,6 +69,8 @@ TEST(SdfYaml, MistakesNameTheLineAndField) {
     }
   };
   expect("{sphere: {radius: -1}}", "field 'sdf.sphere.radius'", "got -1");
+  expect("union:\n  - {sphere: {radius: 2e6}}\n  - {plane: {}}\n",
+         "s.yaml:2:", "sdf.union[0].sphere.radius");
   expect("{torus: {major_radius: 1, minor_radius: 1}}", "sdf.torus.minor_radius", "ring torus");
   expect("{spher: {radius: 1}}", "field 'sdf.spher'", "did you mean 'sphere'");
   expect("{sphere: {radius: 1}, box: {half_extents: [1, 1, 1]}}", "sdf.box", "one kind");

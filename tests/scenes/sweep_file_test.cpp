@@ -64,6 +64,16 @@ TEST(SweepFile, RangesHitTheirEndsExactly) {
   EXPECT_EQ(sweep_number_text(0.1 + 0.2), "0.30000000000000004");
 }
 
+// A plain scalar that would end early inside a flow collection goes back quoted.
+TEST(SweepFile, ValuesWrittenInBlockStyleReadBackTheSame) {
+  const SweepSpec s = load_sweep_string(
+      "scene: a.yaml\nvary:\n  materials.steel:\n    - friction: 0.4\n      note: steel, polished\n"
+      "    - {friction: 0.5}\n",
+      "s.yaml");
+  EXPECT_EQ(s.axes[0].values[0], "{friction: 0.4, note: \"steel, polished\"}");
+  EXPECT_EQ(s.axes[0].values[1], "{friction: 0.5}");
+}
+
 TEST(SweepFile, SeedsAsAList) {
   const SweepSpec s =
       load_sweep_string("scene: a.yaml\nvary: {world.dt: [0.01]}\nseeds: [7, 11]\n", "s.yaml");
