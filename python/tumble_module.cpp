@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "collision/sdf/sdf_tree.hpp"
+#include "scenes/neural_sdf_file.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sdf_section.hpp"
 #include "tumble/tumble.hpp"
@@ -77,6 +78,34 @@ py::array_t<Real> array_of(const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dyn
   for (Eigen::Index i = 0; i < v.size(); ++i)
     out.mutable_at(i) = v[i];
   return out;
+}
+
+// The signed distance and gradient of `field` at points (3,) or (N, 3): a float and (3,), or
+// (N,) and (N, 3).
+template <class Field>
+py::tuple sample_field(const Field& field, const py::object& points_object) {
+  const py::array_t<Real, py::array::c_style | py::array::forcecast> points(points_object);
+  const bool one = points.ndim() == 1;
+  if (!((one && points.shape(0) == 3) || (points.ndim() == 2 && points.shape(1) == 3)))
+    throw py::value_error("points: expected shape (3,) or (N, 3)");
+  const py::ssize_t n = one ? 1 : points.shape(0);
+  py::array_t<Real> distance(n);
+  py::array_t<Real> gradient({n, py::ssize_t(3)});
+  const Real* p = points.data();
+  Real* d = distance.mutable_data();
+  Real* g = gradient.mutable_data();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    if (!x.allFinite())
+      throw py::value_error("points: every coordinate must be finite");
+    const tumble::sdf::Sample s = field.sample(x);
+    d[i] = s.distance;
+    for (int k = 0; k < 3; ++k)
+      g[3 * i + k] = s.gradient[k];
+  }
+  if (one)
+    return py::make_tuple(d[0], gradient.attr("reshape")(3));
+  return py::make_tuple(distance, gradient);
 }
 
 std::shared_ptr<const tumble::Scene> scene_from(const py::object& scene) {
@@ -283,36 +312,9 @@ PYBIND11_MODULE(_tumble, m) {
            py::arg("description"),
            "A signed distance field from its description as in a scene's `sdf:` field, as a "
            "dict ({'torus': {'major_radius': 1, 'minor_radius': 0.25}}) or YAML text.")
-      .def(
-          "sample",
-          [](const tumble::SdfTree& tree, const py::object& points_object) {
-            const py::array_t<Real, py::array::c_style | py::array::forcecast> points(
-                points_object);
-            const bool one = points.ndim() == 1;
-            if (!((one && points.shape(0) == 3) || (points.ndim() == 2 && points.shape(1) == 3)))
-              throw py::value_error("points: expected shape (3,) or (N, 3)");
-            const py::ssize_t n = one ? 1 : points.shape(0);
-            py::array_t<Real> distance(n);
-            py::array_t<Real> gradient({n, py::ssize_t(3)});
-            const Real* p = points.data();
-            Real* d = distance.mutable_data();
-            Real* g = gradient.mutable_data();
-            for (py::ssize_t i = 0; i < n; ++i) {
-              const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-              if (!x.allFinite())
-                throw py::value_error("points: every coordinate must be finite");
-              const tumble::sdf::Sample s = tree.sample(x);
-              d[i] = s.distance;
-              for (int k = 0; k < 3; ++k)
-                g[3 * i + k] = s.gradient[k];
-            }
-            if (one)
-              return py::make_tuple(d[0], gradient.attr("reshape")(3));
-            return py::make_tuple(distance, gradient);
-          },
-          py::arg("points"),
-          "The signed distance (negative inside) and its gradient at points (3,) or (N, 3): a "
-          "float or an (N,) array, and (3,) or (N, 3).")
+      .def("sample", &sample_field<tumble::SdfTree>, py::arg("points"),
+           "The signed distance (negative inside) and its gradient at points (3,) or (N, 3): a "
+           "float or an (N,) array, and (3,) or (N, 3).")
       .def_property_readonly(
           "bounds",
           [](const tumble::SdfTree& tree) {
@@ -322,6 +324,20 @@ PYBIND11_MODULE(_tumble, m) {
           "leaves it open).")
       .def_property_readonly("exact", &tumble::SdfTree::is_exact,
                              "Whether the value is the distance everywhere (a lone primitive).");
+
+  py::class_<tumble::NeuralSdf>(m, "NeuralSdf")
+      .def(py::init([](const std::string& path) {
+             return std::make_unique<tumble::NeuralSdf>(tumble::load_neural_sdf_file(path));
+           }),
+           py::arg("path"),
+           "A neural signed distance field from its weights file (docs/sdf.md, \"Neural SDFs\"; "
+           "examples/python/fit_neural_sdf.py writes one).")
+      .def("sample", &sample_field<tumble::NeuralSdf>, py::arg("points"),
+           "The network's signed distance and its back-propagated gradient at points (3,) or "
+           "(N, 3).")
+      .def_property_readonly("bounds", [](const tumble::NeuralSdf& net) {
+        return py::make_tuple(array_of(net.bounds().min), array_of(net.bounds().max));
+      });
 
   py::class_<BodyId>(m, "BodyId")
       .def_readonly("index", &BodyId::index)

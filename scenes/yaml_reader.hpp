@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "engine/scene_limits.hpp"
+#include "collision/sdf/neural_sdf.hpp"
 #include "collision/sdf/sdf_tree.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
@@ -272,6 +273,8 @@ class Loader {
   SweepSpec load_sweep(std::string_view text);
   // A signed distance field on its own (scenes/sdf_section.hpp).
   SdfNode load_sdf(std::string_view text);
+  // A neural SDF's weights file (scenes/neural_sdf_file.hpp).
+  NeuralSdfDescription load_neural(std::string_view text) const;
   // A shape on its own (scene_loader.hpp's load_shape_string).
   Shape load_lone_shape(std::string_view text, Vec3* centre_of_mass);
 
