@@ -22,9 +22,9 @@
 #include <utility>
 #include <vector>
 
-#include "engine/scene_limits.hpp"
 #include "collision/sdf/neural_sdf.hpp"
 #include "collision/sdf/sdf_tree.hpp"
+#include "engine/scene_limits.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sweep_file.hpp"

@@ -11,8 +11,8 @@ namespace tumble {
 namespace {
 
 TEST(ShapeOps, OneRowPerTypeInTypeOrder) {
-  const char* names[] = {"sphere", "box", "capsule", "plane", "cylinder", "hull", "mesh",
-                         "compound"};
+  const char* names[] = {"sphere",   "box",  "capsule", "plane",
+                         "cylinder", "hull", "mesh",    "compound"};
   for (int t = 0; t < kShapeTypeCount; ++t) {
     const ShapeOps& row = shape_ops(static_cast<ShapeType>(t));
     EXPECT_EQ(row.name, names[t]);
@@ -35,8 +35,8 @@ TEST(ShapeOps, HullDistanceAgreesWithTriangleFansAndGjk) {
       ASSERT_NEAR(d, testing::local_signed_distance(hull, p), 1e-12) << trial;
       if (d > 1e-9) {
         ++outside;
-        const GjkResult g = gjk(ConvexSupport::of(hull, Transform{}),
-                                ConvexSupport::of_points(&p, 1, Transform{}));
+        const GjkResult g =
+            gjk(ConvexSupport::of(hull, Transform{}), ConvexSupport::of_points(&p, 1, Transform{}));
         ASSERT_NEAR(d, g.distance, 1e-9) << trial;
       }
     }
