@@ -176,6 +176,18 @@ TEST(SweepCommand, TheShippedStudyRuns) {
   fs::remove_all(out);
 }
 
+TEST(SweepCommand, TrajectoriesWhenAsked) {
+  const SweepDir d("tumble_sweep_trajectory");
+  const fs::path spec = d.write_spec(
+      "scene: scene.yaml\nduration: 0.2\ntrajectory: true\nvary:\n  world.dt: [0.01, 0.02]\n");
+  const CommandOutput r =
+      run_tumble_command("sweep " + spec.string() + " -q -o " + (d.root / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  // The initial state and every step, for the two moving boxes.
+  EXPECT_EQ(csv_rows(d.root / "out/runs/0000/trajectory.csv").size(), 1u + 21 * 2);
+  EXPECT_EQ(csv_rows(d.root / "out/runs/0001/trajectory.csv").size(), 1u + 11 * 2);
+}
+
 TEST(SweepCommand, BadSweepsAreRefusedBeforeAnyRun) {
   const SweepDir d("tumble_sweep_errors");
   const auto refused = [&](const std::string& yaml, const std::string& expected) {
