@@ -22,9 +22,7 @@ constexpr IntSpec kVersion{"the format version", "1", 1, 1};
 NeuralSdfDescription Loader::load_neural(std::string_view text) const {
   DocumentBuilder doc;
   const Node& root = parse(text, doc, "layers");
-  YAML::Mark start;
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   const Fields f = read_map(root, mark_or(root, start), "", "a neural SDF weights file", false);
   check_known(f, kNeuralKeys);
   const auto require = [&](std::string_view key) -> const Entry& {
@@ -122,11 +120,7 @@ NeuralSdfDescription Loader::load_neural(std::string_view text) const {
 NeuralSdfDescription load_neural_sdf_string(std::string_view text, std::string_view source_name) {
   const std::string source(source_name);
   scene_yaml::Loader loader{source};
-  try {
-    return loader.load_neural(text);
-  } catch (const YAML::Exception& e) {
-    throw scene_yaml::yaml_syntax_error(e, source);
-  }
+  return scene_yaml::with_yaml_errors(source, [&] { return loader.load_neural(text); });
 }
 
 NeuralSdfDescription load_neural_sdf_file(const std::filesystem::path& path) {

@@ -132,9 +132,7 @@ std::vector<ShapeQuery> Loader::load_queries(std::string_view text) {
   loaded_shapes_.clear();
   DocumentBuilder doc;
   const Node& root = parse(text, doc, "queries");
-  YAML::Mark start;
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   const Fields top =
       read_map(root, mark_or(root, start), "", "a map with the field queries", false);
   check_known(top, kQueryTopKeys);
@@ -163,11 +161,7 @@ using scene_yaml::read_file;
 std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name) {
   const std::string source(source_name);
   Loader loader{source};
-  try {
-    return loader.load_queries(yaml);
-  } catch (const YAML::Exception& e) {
-    throw scene_yaml::yaml_syntax_error(e, source);
-  }
+  return scene_yaml::with_yaml_errors(source, [&] { return loader.load_queries(yaml); });
 }
 
 std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path) {

@@ -149,9 +149,7 @@ Scene Loader::load(std::string_view text, std::span<const FieldOverride> overrid
     root_node = with_field(root_node, split_path(o.field), 0, v.roots[0], doc);
   }
   const Node& root = *root_node;
-  YAML::Mark start;  // line 0, column 0: the start of the text
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   const Fields top =
       read_map(root, mark_or(root, start), "",
                "a map with the fields world, materials, bodies, camera and randomize", false);
@@ -176,9 +174,7 @@ Shape Loader::load_lone_shape(std::string_view text, Vec3* centre_of_mass) {
   loaded_shapes_.clear();
   DocumentBuilder doc;
   const Node& root = parse(text, doc, "type");
-  YAML::Mark start;
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   const Entry whole{"shape", start, root};
   return load_shape(whole, "shape", centre_of_mass);
 }
@@ -189,11 +185,8 @@ using scene_yaml::Loader;
 
 Shape load_shape_string(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass) {
   const std::string source(source_name);
-  try {
-    return Loader(source).load_lone_shape(yaml, centre_of_mass);
-  } catch (const YAML::Exception& e) {
-    throw scene_yaml::yaml_syntax_error(e, source);
-  }
+  return scene_yaml::with_yaml_errors(
+      source, [&] { return Loader(source).load_lone_shape(yaml, centre_of_mass); });
 }
 using scene_yaml::read_file;
 using scene_yaml::yaml_syntax_error;

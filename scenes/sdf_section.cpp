@@ -126,9 +126,7 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
 SdfNode Loader::load_sdf(std::string_view text) {
   DocumentBuilder doc;
   const Node& root = parse(text, doc, "sdf");
-  YAML::Mark start;
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   SdfNode n = load_sdf_node(root, mark_or(root, start), "sdf", 1);
   try {
     (void)SdfTree(n);  // every field was read against the tree's own ranges: nothing new here
@@ -143,11 +141,7 @@ SdfNode Loader::load_sdf(std::string_view text) {
 SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name) {
   const std::string source(source_name);
   scene_yaml::Loader loader{source};
-  try {
-    return loader.load_sdf(yaml);
-  } catch (const YAML::Exception& e) {
-    throw scene_yaml::yaml_syntax_error(e, source);
-  }
+  return scene_yaml::with_yaml_errors(source, [&] { return loader.load_sdf(yaml); });
 }
 
 }  // namespace tumble

@@ -165,9 +165,7 @@ SweepAxis Loader::load_sweep_axis(const Entry& e) const {
 SweepSpec Loader::load_sweep(std::string_view text) {
   DocumentBuilder doc;
   const Node& root = parse(text, doc, "scene");
-  YAML::Mark start;
-  start.line = 0;
-  start.column = 0;
+  const YAML::Mark start = text_start();
   const Fields top = read_map(root, mark_or(root, start), "",
                               "a map with the fields scene, duration, vary, seeds, reference and "
                               "trajectory",
@@ -255,11 +253,7 @@ SweepSpec Loader::load_sweep(std::string_view text) {
 SweepSpec load_sweep_string(std::string_view yaml, std::string_view source_name) {
   const std::string source(source_name);
   scene_yaml::Loader loader{source};
-  try {
-    return loader.load_sweep(yaml);
-  } catch (const YAML::Exception& e) {
-    throw scene_yaml::yaml_syntax_error(e, source);
-  }
+  return scene_yaml::with_yaml_errors(source, [&] { return loader.load_sweep(yaml); });
 }
 
 SweepSpec load_sweep_file(const std::filesystem::path& path) {

@@ -205,6 +205,25 @@ YAML::Mark mark_or(const Node& n, const YAML::Mark& fallback);
 // found (nesting beyond its depth limit said as such, not as its "bad file").
 SceneError yaml_syntax_error(const YAML::Exception& e, const std::string& source);
 
+// Line 0, column 0: where messages about a whole document point.
+inline YAML::Mark text_start() {
+  YAML::Mark start;
+  start.line = 0;
+  start.column = 0;
+  return start;
+}
+
+// `read()` (a Loader reading one text) with yaml-cpp's own errors turned into SceneError naming
+// `source`, its line and column: the one wrapper every file kind's entry point shares.
+template <class Read>
+auto with_yaml_errors(const std::string& source, Read&& read) -> decltype(read()) {
+  try {
+    return read();
+  } catch (const YAML::Exception& e) {
+    throw yaml_syntax_error(e, source);
+  }
+}
+
 // The whole of a scene or query file, or SceneError naming `source` and why it cannot be read.
 std::string read_file(const std::filesystem::path& path, const std::string& source);
 
