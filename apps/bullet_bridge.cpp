@@ -238,6 +238,8 @@ btCollisionShape* make_bullet_shape(const Shape& shape, BulletShapes& m) {
       m.triangle_meshes.push_back(std::move(triangles));
       break;
     }
+    case ShapeType::sdf:
+      break;  // Bullet has no signed distance field shape: the body is reported and left out
   }
   if (!out)
     return nullptr;

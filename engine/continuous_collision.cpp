@@ -5,6 +5,7 @@
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 
 #include "collision/ccd/conservative_advancement.hpp"
 
@@ -34,6 +35,8 @@ Real thickness_of(const Shape& shape) {
         thinnest = std::min(thinnest, thickness_of(part.shape));
       return thinnest;
     }
+    case ShapeType::sdf:
+      return shape.sdf->inner_radius();  // the largest ball inside, from the field's grid
     case ShapeType::plane:
     case ShapeType::mesh:
       break;  // static only: never swept

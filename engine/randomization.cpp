@@ -89,6 +89,9 @@ Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset, bool
     }
     case ShapeType::plane:
     case ShapeType::mesh:
+    case ShapeType::sdf:
+      // A field is not rebuilt per draw (its mass properties and surface points take tens of
+      // milliseconds): size noise leaves it as it is (docs/scene-format.md).
       return out;
   }
   return out;

@@ -137,6 +137,10 @@ class Checker {
         for (std::size_t i = 0; i < s.compound->parts().size(); ++i)
           shape(s.compound->parts()[i].shape, field + ".parts[" + std::to_string(i) + "].shape");
         return;
+      case ShapeType::sdf:
+        if (!s.sdf)
+          fail(field, "an sdf shape without its field (build it with tumble::sdf_shape)");
+        return;
     }
     fail(field + ".type", "unknown shape type " + std::to_string(static_cast<int>(s.type)));
   }

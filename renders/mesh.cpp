@@ -220,6 +220,8 @@ Mesh tessellate(const Shape& shape, const TessellationDetail& detail) {
       return tessellate_box(shape.half_extents);
     case ShapeType::capsule:
       return tessellate_capsule(shape.radius, shape.half_length, detail);
+    case ShapeType::sdf:
+      return tessellate_sdf(*shape.sdf, 16 * detail.subdivision + 16);
     case ShapeType::plane:
       throw std::invalid_argument("a plane has no mesh; the renderer draws it as a floor");
     default:

@@ -38,6 +38,10 @@ Mesh tessellate_capsule(Real radius, Real half_length, const TessellationDetail&
 // collapse to a point or segment are dropped.
 Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& detail);
 
+// The surface of a signed distance field, by marching tetrahedra on a grid of `cells` cells along
+// the longest side of its bounds (renders/sdf_mesh.cpp).
+Mesh tessellate_sdf(const SdfShape& field, int cells);
+
 // The mesh for a bounded shape: a dedicated one where there is one, else the generic convex
 // path. Throws std::invalid_argument for shapes it cannot draw (unbounded ones: planes are drawn
 // as floors by the renderer, not meshed here).

@@ -7,6 +7,7 @@
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 #include "scenes/obj_reader.hpp"
@@ -24,12 +25,9 @@ constexpr std::array<std::string_view, 3> kHullKeys{"type", "points", "file"};
 constexpr std::array<std::string_view, 4> kMeshKeys{"type", "vertices", "triangles", "file"};
 constexpr std::array<std::string_view, 2> kCompoundKeys{"type", "parts"};
 constexpr std::array<std::string_view, 3> kPartKeys{"shape", "position", "orientation"};
+constexpr std::array<std::string_view, 2> kSdfKeys{"type", "sdf"};
 constexpr IntSpec kVertexIndex{"a vertex index", "0 to the number of vertices - 1", 0,
                                std::int64_t(1) << 31};
-
-// Shape names the scene format reserves for later (docs/scene-format.md, "Shapes"); they get "not
-// implemented yet" rather than "unknown".
-constexpr std::array<std::string_view, 1> kPlannedShapes{"sdf"};
 
 }  // namespace
 
@@ -64,7 +62,7 @@ Shape Loader::build_shape(const Entry& e, const std::string& path, Vec3* centre_
   if (type == nullptr) {
     fail(f.mark, child(path, "type"),
          "missing required field 'type'; expected one of: sphere, box, capsule, plane, cylinder, "
-         "hull, mesh, compound");
+         "hull, mesh, compound, sdf");
   }
   const std::string t = read_word(*type, child(path, "type"), "a shape type");
   const auto require = [&](std::string_view key, std::string_view what) -> const Entry& {
@@ -116,14 +114,18 @@ Shape Loader::build_shape(const Entry& e, const std::string& path, Vec3* centre_
     check_known(f, kCompoundKeys);
     return load_compound(f, path, centre_of_mass);
   }
-  if (contains(kPlannedShapes, t)) {
-    fail(type->mark(), child(path, "type"),
-         "shape type '" + t +
-             "' is not implemented yet; available: sphere, box, capsule, plane, cylinder, hull, "
-             "mesh, compound");
+  if (t == "sdf") {
+    check_known(f, kSdfKeys);
+    const Entry& field = require("sdf", "the field: an SDF node such as {torus: {...}}");
+    const SdfNode root = load_sdf_node(field.value, field.mark(), child(path, "sdf"), 1);
+    try {
+      return sdf_shape(root, centre_of_mass);
+    } catch (const Error& error) {
+      fail(field.mark(), child(path, "sdf"), error.what());
+    }
   }
   fail(type->mark(), child(path, "type"),
-       "expected one of: sphere, box, capsule, plane, cylinder, hull, mesh, compound, got " +
+       "expected one of: sphere, box, capsule, plane, cylinder, hull, mesh, compound, sdf, got " +
            describe(type->value));
 }
 

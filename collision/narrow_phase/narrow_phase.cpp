@@ -123,7 +123,7 @@ static_assert(int(ShapeType::sphere) == 0 && int(ShapeType::box) == 1 &&
                   int(ShapeType::capsule) == 2 && int(ShapeType::plane) == 3 &&
                   int(ShapeType::cylinder) == 4 && int(ShapeType::hull) == 5 &&
                   int(ShapeType::mesh) == 6 && int(ShapeType::compound) == 7 &&
-                  kShapeTypeCount == 8,
+                  int(ShapeType::sdf) == 8 && kShapeTypeCount == 9,
               "the table below is indexed by ShapeType");
 
 using namespace detail;
@@ -143,19 +143,22 @@ constexpr PairFunction xvc = flipped<convex_convex>;
 // type; sphere_sphere is called as it is (symmetric by construction). cvx / xvc: the generic
 // GJK/EPA pair (convex_pairs.cpp), as written / flipped; hull-hull has its own separating-axis
 // pair (hull_hull_sat.cpp: faster than GJK+EPA and exact, see docs/narrow-phase-benchmark.md).
+// Signed distance fields meet everything through any_sdf and each other through sdf_sdf
+// (sdf_pairs.cpp); a compound meets them part by part.
 // Planes
 // and meshes are static, so plane-plane, plane-mesh and mesh-mesh never need contacts.
 // clang-format off
 constexpr std::array<std::array<PairFunction, kShapeTypeCount>, kShapeTypeCount> collide_table = {{
-  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh         compound
-  /* sphere   */ {{sphere_sphere,      as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
-  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    as<convex_mesh>, fl<compound_any>}},
-  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>}},
-  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>}},
-  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    as<convex_mesh>, fl<compound_any>}},
-  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<hull_hull>,        as<convex_mesh>, fl<compound_any>}},
-  /* mesh     */ {{fl<convex_mesh>,   fl<convex_mesh>,    fl<convex_mesh>,        no_contact,            fl<convex_mesh>,          fl<convex_mesh>,        no_contact,      fl<compound_any>}},
-  /* compound */ {{as<compound_any>,  as<compound_any>,   as<compound_any>,       as<compound_any>,      as<compound_any>,         as<compound_any>,       as<compound_any>, same<compound_any>}},
+  //              sphere              box                 capsule                 plane                  cylinder                  hull                    mesh             compound            sdf
+  /* sphere   */ {{sphere_sphere,      as<sphere_box>,   as<sphere_capsule>,     as<sphere_plane>,      as<sphere_cylinder>,      cvx,                    as<convex_mesh>, fl<compound_any>,   as<any_sdf>}},
+  /* box      */ {{fl<sphere_box>,    same<box_box>,      fl<capsule_box>,        as<box_plane>,         cvx,                      cvx,                    as<convex_mesh>, fl<compound_any>,   as<any_sdf>}},
+  /* capsule  */ {{fl<sphere_capsule>, as<capsule_box>,   same<capsule_capsule>,  as<capsule_plane>,     as<capsule_cylinder>,     cvx,                    as<convex_mesh>, fl<compound_any>,   as<any_sdf>}},
+  /* plane    */ {{fl<sphere_plane>,  fl<box_plane>,      fl<capsule_plane>,      no_contact,            fl<cylinder_plane>,       fl<hull_plane>,         no_contact,      fl<compound_any>,   as<any_sdf>}},
+  /* cylinder */ {{fl<sphere_cylinder>, xvc,              fl<capsule_cylinder>,   as<cylinder_plane>,    same<convex_convex>,      cvx,                    as<convex_mesh>, fl<compound_any>,   as<any_sdf>}},
+  /* hull     */ {{xvc,               xvc,                xvc,                    as<hull_plane>,        xvc,                      same<hull_hull>,        as<convex_mesh>, fl<compound_any>,   as<any_sdf>}},
+  /* mesh     */ {{fl<convex_mesh>,   fl<convex_mesh>,    fl<convex_mesh>,        no_contact,            fl<convex_mesh>,          fl<convex_mesh>,        no_contact,      fl<compound_any>,   as<any_sdf>}},
+  /* compound */ {{as<compound_any>,  as<compound_any>,   as<compound_any>,       as<compound_any>,      as<compound_any>,         as<compound_any>,       as<compound_any>, same<compound_any>, as<compound_any>}},
+  /* sdf      */ {{fl<any_sdf>,       fl<any_sdf>,        fl<any_sdf>,            fl<any_sdf>,           fl<any_sdf>,              fl<any_sdf>,            fl<any_sdf>,     fl<compound_any>,   same<sdf_sdf>}},
 }};
 // clang-format on
 

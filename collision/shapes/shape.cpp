@@ -67,6 +67,13 @@ Shape Shape::compound_of(std::shared_ptr<const CompoundShape> compound) {
   return s;
 }
 
+Shape Shape::signed_distance_field(std::shared_ptr<const SdfShape> sdf) {
+  Shape s;
+  s.type = ShapeType::sdf;
+  s.sdf = std::move(sdf);
+  return s;
+}
+
 // Each shape type's answers are its row of the table (collision/shapes/<type>_ops.cpp).
 
 Vec3 support(const Shape& shape, const Vec3& d) {

@@ -11,6 +11,7 @@
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 #include "tumble/error.hpp"
 #include "tumble/shape.hpp"
@@ -62,6 +63,11 @@ void add_balls(const Shape& s, const Transform& pose, std::vector<Ball>& out) {
     case ShapeType::compound:
       for (const CompoundPart& part : s.compound->parts())
         add_balls(part.shape, compose(pose, part.pose), out);
+      return;
+    case ShapeType::sdf:
+      // The surface points, each grown by the half cell the surface may bulge between them.
+      for (const Vec3& v : s.sdf->surface_points())
+        add(v, s.sdf->cell_size() / 2);
       return;
     case ShapeType::plane:
       break;

@@ -12,8 +12,8 @@ namespace {
 
 // In ShapeType order (include/tumble/shape.hpp).
 constexpr std::array<const ShapeOps*, kShapeTypeCount> kRows{
-    &kSphereOps,   &kBoxOps,  &kCapsuleOps, &kPlaneOps,
-    &kCylinderOps, &kHullOps, &kMeshOps,    &kCompoundOps};
+    &kSphereOps, &kBoxOps,  &kCapsuleOps,  &kPlaneOps, &kCylinderOps,
+    &kHullOps,   &kMeshOps, &kCompoundOps, &kSdfOps};
 
 }  // namespace
 

@@ -14,6 +14,7 @@ extern const ShapeOps kCylinderOps;  // cylinder_ops.cpp
 extern const ShapeOps kHullOps;      // hull_ops.cpp
 extern const ShapeOps kMeshOps;      // mesh_ops.cpp
 extern const ShapeOps kCompoundOps;  // compound_ops.cpp
+extern const ShapeOps kSdfOps;       // sdf_ops.cpp
 
 namespace shape_geometry {
 

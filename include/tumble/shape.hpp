@@ -1,6 +1,7 @@
 // Shapes, in their local frame with the centre of mass at the origin. Sphere, box, capsule (core
 // segment along local z), plane (the half-space z <= 0), cylinder (axis along local z), convex
-// hull, static triangle mesh, and compound (several convex parts in one body).
+// hull, static triangle mesh, compound (several convex parts in one body), and a solid given by a
+// signed distance field (docs/sdf.md).
 #pragma once
 
 #include <array>
@@ -19,6 +20,7 @@ namespace tumble {
 class ConvexHull;
 class TriangleMesh;
 class CompoundShape;
+class SdfShape;
 
 // The values are fixed: dispatch tables and saved data index by them.
 enum class ShapeType : std::uint8_t {
@@ -30,8 +32,9 @@ enum class ShapeType : std::uint8_t {
   hull = 5,
   mesh = 6,
   compound = 7,
+  sdf = 8,
 };
-inline constexpr int kShapeTypeCount = 8;
+inline constexpr int kShapeTypeCount = 9;
 
 std::string_view shape_type_name(ShapeType type);
 
@@ -46,6 +49,7 @@ struct Shape {
   std::shared_ptr<const ConvexHull> hull;
   std::shared_ptr<const TriangleMesh> mesh;       // mesh (static only)
   std::shared_ptr<const CompoundShape> compound;  // compound
+  std::shared_ptr<const SdfShape> sdf;  // sdf: the field, re-centred on its centre of mass
 
   static Shape sphere(Real radius);
   static Shape box(const Vec3& half_extents);
@@ -55,6 +59,7 @@ struct Shape {
   static Shape convex_hull(std::shared_ptr<const ConvexHull> hull);
   static Shape triangle_mesh(std::shared_ptr<const TriangleMesh> mesh);
   static Shape compound_of(std::shared_ptr<const CompoundShape> compound);
+  static Shape signed_distance_field(std::shared_ptr<const SdfShape> sdf);
 
   // Bounded shapes can be dynamic; a plane is infinite and only ever static.
   bool is_bounded() const { return type != ShapeType::plane; }

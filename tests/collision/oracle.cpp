@@ -75,6 +75,7 @@ Shape random_shape(Rng& rng, ShapeType type) {
     }
     case ShapeType::mesh:
     case ShapeType::compound:
+    case ShapeType::sdf:
       break;
   }
   return {};
@@ -149,6 +150,7 @@ Real local_signed_distance(const Shape& shape, const Vec3& p) {
       return hull_local_signed_distance(*shape.hull, p);
     case ShapeType::mesh:
     case ShapeType::compound:
+    case ShapeType::sdf:
       break;
   }
   return 0;
@@ -218,6 +220,7 @@ Vec3 random_surface_point(Rng& rng, const Shape& shape) {
     }
     case ShapeType::mesh:
     case ShapeType::compound:
+    case ShapeType::sdf:
       break;
   }
   return Vec3::Zero();

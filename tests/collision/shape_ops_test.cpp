@@ -11,8 +11,8 @@ namespace tumble {
 namespace {
 
 TEST(ShapeOps, OneRowPerTypeInTypeOrder) {
-  const char* names[] = {"sphere",   "box",  "capsule", "plane",
-                         "cylinder", "hull", "mesh",    "compound"};
+  const char* names[] = {"sphere", "box",  "capsule",  "plane", "cylinder",
+                         "hull",   "mesh", "compound", "sdf"};
   for (int t = 0; t < kShapeTypeCount; ++t) {
     const ShapeOps& row = shape_ops(static_cast<ShapeType>(t));
     EXPECT_EQ(row.name, names[t]);

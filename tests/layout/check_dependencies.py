@@ -14,7 +14,7 @@ RANKS = {
     "collision": 1,  # math.hpp, aabb.hpp, contact.hpp: the module's vocabulary
     "collision/shapes": 2,
     "collision/broad_phase": 2,
-    "collision/sdf": 2,
+    "collision/sdf": 1.5,  # fields know only the vocabulary; SDF shapes (collision/shapes) use them
     "collision/narrow_phase/gjk_epa": 3,
     "collision/narrow_phase/pairs": 4,
     "collision/narrow_phase": 5,

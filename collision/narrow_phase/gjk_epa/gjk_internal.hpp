@@ -61,6 +61,7 @@ inline Vec3 local_core_support(const ConvexSupport& s, const Vec3& d, int& index
     case ShapeType::plane:
     case ShapeType::mesh:
     case ShapeType::compound:
+    case ShapeType::sdf:
       break;
   }
   index = 0;

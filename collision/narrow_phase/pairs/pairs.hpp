@@ -45,6 +45,13 @@ int capsule_box(const Shape& a, const Transform& pose_a, const Shape& b, const T
 int box_plane(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
               Real margin, Manifold& out);
 
+// sdf_pairs.cpp: any shape but a compound (sphere, box, capsule, plane, cylinder, hull, mesh)
+// against a signed distance field, and two fields.
+int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out);
+int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out);
+
 // narrow_phase.cpp: whether `a` goes first when two shapes of one type meet (the order collide()
 // runs their pair function in, and collide_box_pairs too).
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b);

@@ -1,0 +1,453 @@
+// Contacts with a solid given by its signed distance field (collision/shapes/sdf_shape.hpp).
+//
+// Everything runs in the SDF's frame (B), with two kinds of candidate points:
+//  1. Points of the other shape (A) evaluated in B's field: a sphere's centre and points along a
+//     capsule's core (direct evaluation: the contact is phi - radius deep along grad phi), and
+//     points spread over the surface of a box, cylinder, hull or mesh triangle (vertices, edges
+//     and faces at about B's surface-point spacing).
+//  2. B's surface points (SdfShape::surface_point) that lie inside A's bounding box, evaluated in
+//     A's own signed distance; for an SDF against an SDF, each one's points in the other's field.
+//     Such a point lies a fraction of a cell from the true deepest point, so the deepest of them
+//     are refined: a Newton walk along the surface to where the partner's distance is least
+//     (the surface normal turns to face the partner's gradient), at most kRefineSteps steps; then
+//     the depth is the partner's distance there. This is the descent on phi_A + phi_B of
+//     Macklin et al., "Local Optimization for Robust Signed Distance Field Collision" (SIGGRAPH
+//     2020), restricted to the surface it starts on.
+// The candidates are merged into one manifold of at most four points by the contact collector
+// (the normal of the deepest, points within 60 degrees of it; contact_collector.hpp).
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "collision/narrow_phase/pairs/contact_collector.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
+#include "collision/sdf/sdf_primitives.hpp"
+#include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
+#include "collision/shapes/shape_ops.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
+
+namespace tumble::detail {
+namespace {
+
+constexpr std::uint16_t kSdfSurface = 0xfffe;
+constexpr int kRefineSteps = 16;
+constexpr std::size_t kRegions = 64;  // 2^6: the hash below keeps 6 bits
+constexpr int kMaxSamplesPerSide = 8;
+constexpr Real kPi = Real(3.14159265358979323846);
+
+// The signed distance of shape A, placed at `pose` in B's frame, at a point of B's frame, with
+// its gradient in B's frame. Exact for the primitives; for a hull the distance is exact (nearest
+// face inside, nearest feature outside) and the gradient a central difference.
+sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x) {
+  const Vec3 p = pose.apply_inverse(x);
+  sdf::Sample s;
+  switch (a.type) {
+    case ShapeType::sphere:
+      s = sdf::sphere(p, a.radius);
+      break;
+    case ShapeType::box:
+      s = sdf::box(p, a.half_extents);
+      break;
+    case ShapeType::capsule:
+      s = sdf::capsule(p, a.radius, a.half_length);
+      break;
+    case ShapeType::cylinder:
+      s = sdf::cylinder(p, a.radius, a.half_length);
+      break;
+    case ShapeType::plane:
+      s = {p.z(), Vec3::UnitZ()};
+      break;
+    case ShapeType::sdf:
+      s = a.sdf->sample(p);
+      break;
+    default: {
+      const auto distance = shape_ops(a.type).signed_distance;
+      s.distance = distance(a, p);
+      const Real h = bounding_radius(a) * Real(1e-6);
+      for (int k = 0; k < 3; ++k) {
+        Vec3 e = Vec3::Zero();
+        e[k] = h;
+        s.gradient[k] = (distance(a, p + e) - distance(a, p - e)) / (2 * h);
+      }
+      break;
+    }
+  }
+  s.gradient = pose.rotate(s.gradient);
+  return s;
+}
+
+// A surface and its field, in B's frame: B itself, or (for an SDF against an SDF) A placed there.
+struct Surface {
+  const SdfShape* field;
+  Transform pose;  // the field's frame in B's frame
+  sdf::Sample sample(const Vec3& x) const {
+    sdf::Sample s = field->sample(pose.apply_inverse(x));
+    s.gradient = pose.rotate(s.gradient);
+    return s;
+  }
+};
+
+// A secant walk on the surface: from x on it, toward the point where the partner's distance is
+// least, i.e. where the surface's outward normal n is opposite the partner's gradient m. The
+// tangential part of m, t = m - (m.n) n, has length sin(delta), delta the angle still to turn;
+// a step of alpha t along -t, then back onto the surface, turns delta at a rate of about the
+// sum of the two surfaces' curvatures, measured over the last step, so alpha = moved / (how
+// much delta fell) lands near the optimum (Newton's step on delta, with a secant slope). A step
+// that does not lower the partner's distance is halved.
+template <class Partner>
+Vec3 refine_on_surface(const Surface& surface, const Partner& partner, Vec3 x, Real cell) {
+  const auto project = [&](Vec3 p, sdf::Sample& s) {
+    for (int k = 0; k < 3; ++k) {
+      s = surface.sample(p);
+      const Real g2 = s.gradient.squaredNorm();
+      if (!(g2 > 0))
+        break;
+      p -= (s.distance / g2) * s.gradient;
+    }
+    s = surface.sample(p);
+    return p;
+  };
+  const auto misalignment = [](const sdf::Sample& own, const sdf::Sample& other, Vec3& t) {
+    const Vec3 n = normalized_or(own.gradient, Vec3::UnitZ());
+    const Vec3 m = normalized_or(other.gradient, Vec3::UnitZ());
+    t = m - m.dot(n) * n;
+    return std::atan2(t.norm(), -m.dot(n));  // 0 when m = -n
+  };
+  sdf::Sample here;
+  x = project(x, here);
+  sdf::Sample other = partner(x);
+  Vec3 t;
+  Real delta = misalignment(here, other, t);
+  Real alpha = cell;
+  for (int i = 0; i < kRefineSteps && delta > Real(1e-12); ++i) {
+    sdf::Sample next_here;
+    const Vec3 next = project(x - alpha * t, next_here);
+    const sdf::Sample next_other = partner(next);
+    if (!(next_other.distance < other.distance)) {
+      alpha /= 2;
+      if (alpha < cell * Real(1e-6))
+        break;
+      continue;
+    }
+    Vec3 next_t;
+    const Real next_delta = misalignment(next_here, next_other, next_t);
+    const Real moved = (next - x).norm();
+    x = next;
+    here = next_here;
+    other = next_other;
+    t = next_t;
+    alpha = delta - next_delta > moved * Real(1e-9) ? moved / (delta - next_delta) : 2 * alpha;
+    alpha = std::min(alpha, 1e3 * cell);
+    delta = next_delta;
+  }
+  return x;
+}
+
+// Points spread over the surface of a box, cylinder or hull (A's frame), at about `spacing`.
+template <class F>
+void for_each_surface_sample(const Shape& a, Real spacing, F&& f) {
+  const auto divisions = [&](Real length) {
+    return std::clamp(int(std::ceil(length / spacing)), 1, kMaxSamplesPerSide);
+  };
+  std::uint16_t id = 0;
+  switch (a.type) {
+    case ShapeType::box: {
+      const Vec3& h = a.half_extents;
+      for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const int nu = divisions(2 * h[u]), nv = divisions(2 * h[v]);
+        for (int side = -1; side <= 1; side += 2)
+          for (int i = 0; i <= nu; ++i)
+            for (int j = 0; j <= nv; ++j) {
+              Vec3 p;
+              p[axis] = side * h[axis];
+              p[u] = -h[u] + 2 * h[u] * Real(i) / Real(nu);
+              p[v] = -h[v] + 2 * h[v] * Real(j) / Real(nv);
+              f(p, id++);
+            }
+      }
+      return;
+    }
+    case ShapeType::cylinder: {
+      const int around = std::clamp(int(std::ceil(2 * kPi * a.radius / spacing)), 8, 64);
+      const int rings = divisions(a.radius);
+      const int along = divisions(2 * a.half_length);
+      for (int k = 0; k < around; ++k) {
+        const Real angle = 2 * kPi * Real(k) / Real(around);
+        const Vec3 dir(std::cos(angle), std::sin(angle), 0);
+        for (int j = 0; j <= along; ++j)
+          f(Vec3(a.radius * dir +
+                 Vec3(0, 0, -a.half_length + 2 * a.half_length * Real(j) / Real(along))),
+            id++);
+        for (int r = 1; r < rings; ++r)
+          for (int side = -1; side <= 1; side += 2)
+            f(Vec3(a.radius * Real(r) / Real(rings) * dir + Vec3(0, 0, side * a.half_length)),
+              id++);
+      }
+      f(Vec3(0, 0, -a.half_length), id++);
+      f(Vec3(0, 0, a.half_length), id++);
+      return;
+    }
+    case ShapeType::hull: {
+      const ConvexHull& hull = *a.hull;
+      for (const Vec3& v : hull.vertices())
+        f(v, id++);
+      for (const HullEdge& e : hull.edges()) {
+        const Vec3 p = hull.vertex(e.vertex[0]), q = hull.vertex(e.vertex[1]);
+        const int n = divisions((q - p).norm());
+        for (int i = 1; i < n; ++i)
+          f(Vec3(p + (q - p) * (Real(i) / Real(n))), id++);
+      }
+      for (const HullFace& face : hull.faces()) {
+        Vec3 c = Vec3::Zero();
+        for (int i = 0; i < face.count; ++i)
+          c += hull.vertex(hull.face_vertices()[std::size_t(face.first_index + i)]);
+        f(Vec3(c / Real(face.count)), id++);
+      }
+      return;
+    }
+    default:
+      return;
+  }
+}
+
+// The candidates of kind 2: B's surface points inside `box` (B's frame) that the partner's
+// distance puts within the margin. The deepest point of each region (cubes of a quarter of B's
+// bounding radius, hashed into kRegions slots) is refined, so that a resting ring or face gives
+// points all around it, not only where it is a hair deeper.
+template <class Partner, class Emit>
+void surface_points_against(const Surface& surface, const Aabb& box, const Partner& partner,
+                            Real margin, Emit&& emit) {
+  struct Raw {
+    std::int64_t region = -1;
+    int index = 0;
+    Real distance = 0;
+  };
+  std::array<Raw, kRegions> deepest;
+  const SdfShape& field = *surface.field;
+  const Aabb local = [&] {
+    // The box in the field's own frame, for the bucket query.
+    Aabb out;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 c((corner & 1) ? box.max.x() : box.min.x(),
+                   (corner & 2) ? box.max.y() : box.min.y(),
+                   (corner & 4) ? box.max.z() : box.min.z());
+      out.grow(surface.pose.apply_inverse(c));
+    }
+    return out;
+  }();
+  const Real region_size = field.bounding_radius() / 4;
+  const Vec3& origin = field.local_bounds().min;
+  field.for_each_surface_point_in(local, [&](int i) {
+    const Vec3& own = field.surface_point(i);
+    const Real d = partner(surface.pose.apply(own)).distance;
+    if (!(d < margin))
+      return;
+    const Vec3 cell = ((own - origin) / region_size).array().floor();
+    const std::int64_t region =
+        std::int64_t(cell.x()) + 64 * (std::int64_t(cell.y()) + 64 * std::int64_t(cell.z()));
+    // Fibonacci hashing: the top bits of the product mix all three coordinates.
+    const std::uint64_t mixed = std::uint64_t(region) * 0x9E3779B97F4A7C15ULL;
+    Raw& slot = deepest[std::size_t(mixed >> 58)];
+    if (slot.region < 0 || d < slot.distance)
+      slot = {region, i, d};
+  });
+  for (const Raw& raw : deepest) {
+    if (raw.region < 0)
+      continue;
+    const Vec3 start = surface.pose.apply(field.surface_point(raw.index));
+    const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size());
+    const sdf::Sample own = surface.sample(x);
+    const sdf::Sample other = partner(x);
+    if (!(other.distance < margin))
+      continue;
+    // The partner is pushed off the surface point the shortest way out of it: against its own
+    // gradient there (at the optimum also the surface's normal, but a flat partner's gradient
+    // is exact where the curved surface's normal still carries the walk's last error).
+    emit(x, normalized_or(Vec3(-other.gradient), own.gradient), other,
+         std::uint16_t(raw.index & 0xffff));
+  }
+}
+
+// A (sphere, box, capsule, plane, cylinder, hull) against the SDF B, in B's frame.
+int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real margin,
+                       Manifold& out) {
+  ContactCollector collector;
+  const Aabb b_box = field.local_bounds().inflated(margin);
+  const Surface surface{&field, Transform{}};
+  // Kind 1: A's points in B's field.
+  if (a.type == ShapeType::sphere || a.type == ShapeType::capsule) {
+    const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
+    const int n = a.type == ShapeType::capsule
+                      ? std::clamp(int(std::ceil(2 * a.half_length / field.cell_size())), 1, 16)
+                      : 0;
+    for (int i = 0; i <= n; ++i) {
+      const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
+      const Vec3 c = pose_a.translation + along * axis;
+      const sdf::Sample s = field.sample(c);
+      const Real depth = a.radius - s.distance;
+      if (!(depth >= -margin))
+        continue;
+      const Vec3 normal = normalized_or(s.gradient, Vec3::UnitZ());
+      collector.add(normal, c - normal * a.radius, depth,
+                    {a.type == ShapeType::capsule
+                         ? feature::capsule_feature_at(Real(i) / Real(std::max(n, 1)))
+                         : feature::kSphere,
+                     kSdfSurface});
+    }
+  } else if (a.type != ShapeType::plane) {
+    for_each_surface_sample(a, field.cell_size(), [&](const Vec3& local, std::uint16_t id) {
+      const Vec3 p = pose_a.apply(local);
+      if (!b_box.contains(p))
+        return;
+      const sdf::Sample s = field.sample(p);
+      if (!(-s.distance >= -margin))
+        return;
+      collector.add(normalized_or(s.gradient, Vec3::UnitZ()), p, -s.distance, {id, kSdfSurface});
+    });
+  }
+  // Kind 2: B's surface points in A's distance (a sphere or capsule needs none: kind 1 is exact).
+  if (a.type != ShapeType::sphere && a.type != ShapeType::capsule) {
+    const Aabb a_box =
+        a.type == ShapeType::plane ? field.local_bounds() : world_aabb(a, pose_a).inflated(margin);
+    const auto partner = [&](const Vec3& x) { return partner_sample(a, pose_a, x); };
+    surface_points_against(
+        surface, a_box, partner, margin,
+        [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
+          // A is pushed out along B's normal; its point is `depth` inside B.
+          const Real depth = -other.distance;
+          collector.add(n, x - n * depth, depth, {kSdfSurface, id});
+        });
+  }
+  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out);
+}
+
+// A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
+// B's surface points under each triangle measured from its plane.
+int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real margin,
+                     Manifold& out) {
+  const TriangleMesh& mesh = *a.mesh;
+  const Aabb b_box = field.local_bounds().inflated(margin);
+  // B's box in the mesh's frame, for the mesh's tree.
+  Aabb query;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 c((corner & 1) ? b_box.max.x() : b_box.min.x(),
+                 (corner & 2) ? b_box.max.y() : b_box.min.y(),
+                 (corner & 4) ? b_box.max.z() : b_box.min.z());
+    query.grow(pose_a.apply_inverse(c));
+  }
+  ContactCollector collector;
+  const Surface surface{&field, Transform{}};
+  const Real spacing = field.cell_size();
+  mesh.for_each_overlapping(query, [&](int t) {
+    const Vec3 v0 = pose_a.apply(mesh.corner(t, 0));
+    const Vec3 v1 = pose_a.apply(mesh.corner(t, 1));
+    const Vec3 v2 = pose_a.apply(mesh.corner(t, 2));
+    const Vec3 normal = pose_a.rotate(mesh.normal(t));
+    const std::uint16_t id = feature::mesh_feature(t, 0);
+    // The triangle's points in B's field (a grid of barycentric points, capped).
+    const int n = std::clamp(
+        int(std::ceil(std::max({(v1 - v0).norm(), (v2 - v1).norm(), (v0 - v2).norm()}) / spacing)),
+        1, 4 * kMaxSamplesPerSide);
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const Vec3 p = v0 + (v1 - v0) * (Real(i) / Real(n)) + (v2 - v0) * (Real(j) / Real(n));
+        if (!b_box.contains(p))
+          continue;
+        const sdf::Sample s = field.sample(p);
+        if (-s.distance >= -margin)
+          collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface});
+      }
+    // B's surface points below the triangle, inside its prism (the triangle's one-sided plane).
+    Aabb prism;
+    prism.grow(v0);
+    prism.grow(v1);
+    prism.grow(v2);
+    const Real thickness = 2 * field.inner_radius() + margin;
+    prism = prism.inflated(thickness);
+    const auto inside_prism = [&](const Vec3& x) {
+      const Vec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
+      const Vec3 o[3] = {v0, v1, v2};
+      for (int k = 0; k < 3; ++k)
+        if (normal.cross(e[k]).dot(x - o[k]) < 0)
+          return false;
+      return true;
+    };
+    const auto partner = [&](const Vec3& x) {
+      sdf::Sample s;
+      s.distance = normal.dot(x - v0);
+      s.gradient = normal;
+      return s;
+    };
+    surface_points_against(
+        surface, prism, partner, margin,
+        [&](const Vec3& x, const Vec3& nb, const sdf::Sample& other, std::uint16_t point) {
+          if (!inside_prism(x) || other.distance < -thickness)
+            return;
+          const Real depth = -other.distance;
+          collector.add(nb, x - nb * depth, depth, {std::uint16_t(id | 7), point});
+        });
+  });
+  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out);
+}
+
+}  // namespace
+
+int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out) {
+  // Into B's frame, and the answer back out.
+  const Transform a_in_b{pose_b.rotate_inverse(pose_a.translation - pose_b.translation),
+                         pose_b.rotation.conjugate() * pose_a.rotation};
+  const int count = a.type == ShapeType::mesh ? mesh_against_sdf(a, a_in_b, *b.sdf, margin, out)
+                                              : convex_against_sdf(a, a_in_b, *b.sdf, margin, out);
+  out.normal = pose_b.rotate(out.normal);
+  for (int i = 0; i < count; ++i)
+    out.points[i].position = pose_b.apply(out.points[i].position);
+  return count;
+}
+
+int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
+            Real margin, Manifold& out) {
+  const Transform a_in_b{pose_b.rotate_inverse(pose_a.translation - pose_b.translation),
+                         pose_b.rotation.conjugate() * pose_a.rotation};
+  const SdfShape& fa = *a.sdf;
+  const SdfShape& fb = *b.sdf;
+  const Surface surface_a{&fa, a_in_b};
+  const Surface surface_b{&fb, Transform{}};
+  // Where the two boxes overlap: only there can either surface be inside the other.
+  Aabb a_box;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Aabb& l = fa.local_bounds();
+    a_box.grow(a_in_b.apply(Vec3((corner & 1) ? l.max.x() : l.min.x(),
+                                 (corner & 2) ? l.max.y() : l.min.y(),
+                                 (corner & 4) ? l.max.z() : l.min.z())));
+  }
+  const Aabb b_box = fb.local_bounds();
+  Aabb overlap{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)};
+  overlap = overlap.inflated(margin);
+  ContactCollector collector;
+  // B's points in A's field: A is pushed along B's normal.
+  surface_points_against(
+      surface_b, overlap, [&](const Vec3& x) { return surface_a.sample(x); }, margin,
+      [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
+        const Real depth = -other.distance;
+        collector.add(n, x - n * depth, depth, {kSdfSurface, id});
+      });
+  // A's points in B's field: the point lies on A, pushed along B's gradient.
+  surface_points_against(
+      surface_a, overlap, [&](const Vec3& x) { return surface_b.sample(x); }, margin,
+      [&](const Vec3& x, const Vec3&, const sdf::Sample& other, std::uint16_t id) {
+        collector.add(normalized_or(other.gradient, Vec3::UnitZ()), x, -other.distance,
+                      {id, kSdfSurface});
+      });
+  const int count = collector.finish(
+      margin,
+      ContactCollector::kMergeFraction * std::min(fa.bounding_radius(), fb.bounding_radius()), out);
+  out.normal = pose_b.rotate(out.normal);
+  for (int i = 0; i < count; ++i)
+    out.points[i].position = pose_b.apply(out.points[i].position);
+  return count;
+}
+
+}  // namespace tumble::detail
