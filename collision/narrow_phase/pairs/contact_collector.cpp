@@ -33,7 +33,8 @@ void ContactCollector::add(const Vec3& normal, const Vec3& point_on_a, Real dept
     candidates_[shallowest] = candidate;
 }
 
-int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out) const {
+int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out,
+                             NormalRule rule) const {
   out = Manifold{};
   if (count_ == 0)
     return 0;
@@ -41,7 +42,17 @@ int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out) co
   for (int i = 1; i < count_; ++i)
     if (candidates_[i].depth > candidates_[deepest].depth)
       deepest = i;
-  const Vec3 normal = candidates_[deepest].normal;
+  Vec3 normal = candidates_[deepest].normal;
+  if (rule == NormalRule::weighted_mean) {
+    Vec3 sum = Vec3::Zero();
+    for (int i = 0; i < count_; ++i) {
+      const Candidate& c = candidates_[i];
+      if (c.normal.dot(normal) >= kMergeCosine)
+        sum += std::max(c.depth + margin, Real(0)) * c.normal;
+    }
+    if (sum.squaredNorm() > 0)
+      normal = sum.normalized();
+  }
   std::array<ContactPoint, kCapacity> points;
   int n = 0;
   for (int i = 0; i < count_; ++i) {

@@ -29,9 +29,15 @@ class ContactCollector {
   // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint.
   void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature);
   bool empty() const { return count_ == 0; }
+  // Which normal the manifold takes: the deepest candidate's, or the mean of the normals within
+  // 60 degrees of it weighted by how deep each point is (depth + margin), for surfaces whose
+  // normal turns from point to point (a field's): a box resting in a round bowl then gets the
+  // bowl's axis, not the tilt of whichever corner is a hair deeper, and stays where it is put.
+  enum class NormalRule { deepest, weighted_mean };
   // Writes the merged manifold (at most 4 points with depth >= -margin, no two closer than
   // `merge_distance`) and returns its count.
-  int finish(Real margin, Real merge_distance, Manifold& out) const;
+  int finish(Real margin, Real merge_distance, Manifold& out,
+             NormalRule rule = NormalRule::deepest) const;
 
  private:
   struct Candidate {

@@ -320,7 +320,8 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
           collector.add(n, x - n * depth, depth, {kSdfSurface, id});
         });
   }
-  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out);
+  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
+                          ContactCollector::NormalRule::weighted_mean);
 }
 
 // A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
@@ -389,7 +390,8 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
           collector.add(nb, x - nb * depth, depth, {std::uint16_t(id | 7), point});
         });
   });
-  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out);
+  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
+                          ContactCollector::NormalRule::weighted_mean);
 }
 
 }  // namespace
@@ -443,7 +445,8 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
       });
   const int count = collector.finish(
       margin,
-      ContactCollector::kMergeFraction * std::min(fa.bounding_radius(), fb.bounding_radius()), out);
+      ContactCollector::kMergeFraction * std::min(fa.bounding_radius(), fb.bounding_radius()), out,
+      ContactCollector::NormalRule::weighted_mean);
   out.normal = pose_b.rotate(out.normal);
   for (int i = 0; i < count; ++i)
     out.points[i].position = pose_b.apply(out.points[i].position);
