@@ -2,15 +2,23 @@
 // readers; the tree's own checks (collision/sdf/sdf_tree.hpp) then find nothing a field did not.
 #include "scenes/sdf_section.hpp"
 
+#include <filesystem>
+#include <memory>
+
+#include "scenes/neural_sdf_file.hpp"
+#include "scenes/obj_reader.hpp"
 #include "scenes/yaml_reader.hpp"
 
 namespace tumble {
 namespace scene_yaml {
 namespace {
 
-constexpr std::array<std::string_view, 10> kSdfKinds{
-    "sphere", "box",   "capsule",      "cylinder",   "torus",
-    "plane",  "union", "intersection", "difference", "smooth_union"};
+constexpr std::array<std::string_view, 12> kSdfKinds{
+    "sphere", "box",    "capsule", "cylinder",     "torus",      "plane",
+    "grid",   "neural", "union",   "intersection", "difference", "smooth_union"};
+constexpr std::array<std::string_view, 3> kGridKeys{"file", "cell", "interpolation"};
+constexpr std::array<std::string_view, 1> kNeuralKeys{"file"};
+constexpr RealSpec kCell{"a cell size in metres", "1e-6 to 1e3", 1e-6, 1e3};
 constexpr std::array<std::string_view, 1> kRadiusKeys{"radius"};
 constexpr std::array<std::string_view, 1> kHalfExtentsKeys{"half_extents"};
 constexpr std::array<std::string_view, 2> kRadiusLengthKeys{"radius", "half_length"};
@@ -32,7 +40,7 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
     fail(mark, path, "SDF nodes nested deeper than " + std::to_string(SdfTree::kMaxDepth));
   const Fields f = read_map(node, mark, path,
                             "an SDF node: a map with one of sphere, box, capsule, cylinder, torus, "
-                            "plane, union, intersection, difference, smooth_union",
+                            "plane, grid, neural, union, intersection, difference, smooth_union",
                             false);
   const Entry* kind = nullptr;
   for (const Entry& e : f.entries) {
@@ -51,8 +59,8 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
   }
   if (kind == nullptr)
     fail(f.mark, path,
-         "an SDF node needs a kind: one of sphere, box, capsule, cylinder, torus, plane, union, "
-         "intersection, difference, smooth_union");
+         "an SDF node needs a kind: one of sphere, box, capsule, cylinder, torus, plane, grid, "
+         "neural, union, intersection, difference, smooth_union");
   const std::string here = child(path, kind->key);
   SdfNode n;
   const auto require = [&](const Fields& params, std::string_view key) -> const Entry& {
@@ -110,6 +118,18 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
         fail(minor.mark(), child(here, "minor_radius"),
              "expected less than major_radius " + fmt(big) + " (a ring torus), got " + fmt(small));
       n = SdfNode::torus(big, small);
+    } else if (k == "grid") {
+      n = load_sdf_grid(params, here);
+    } else if (k == "neural") {
+      check_known(params, kNeuralKeys);
+      const Entry& file = require(params, "file");
+      const std::filesystem::path where =
+          relative_to_scene(read_name(file, child(here, "file"), "a weights file name (JSON)"));
+      try {
+        n = SdfNode::from_network(std::make_shared<const NeuralSdf>(load_neural_sdf_file(where)));
+      } catch (const Error& error) {
+        fail(file.mark(), child(here, "file"), error.what());
+      }
     } else {  // plane
       check_known(params, {});
       n = SdfNode::plane();
@@ -121,6 +141,49 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
   if (const Entry* x = f.find("orientation"))
     n.pose.rotation = read_orientation(*x, child(path, "orientation"));
   return n;
+}
+
+std::filesystem::path Loader::relative_to_scene(const std::string& name) const {
+  std::filesystem::path path(name);
+  if (path.is_relative())
+    path = std::filesystem::path(source_).parent_path() / path;
+  return path;
+}
+
+// {grid: {file: mesh.obj, cell: 0.01, interpolation: tricubic}}: a grid SDF of a closed OBJ
+// mesh (collision/sdf/sdf_grid.hpp), the file relative to the scene's folder.
+SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) const {
+  check_known(params, kGridKeys);
+  const Entry* file = params.find("file");
+  const Entry* cell = params.find("cell");
+  if (file == nullptr || cell == nullptr)
+    fail(params.mark, child(here, file == nullptr ? "file" : "cell"),
+         "a grid needs 'file' (a closed OBJ mesh) and 'cell' (the cell size in metres)");
+  const std::string name = read_name(*file, child(here, "file"), "an OBJ file name");
+  const Real size = read_real(*cell, child(here, "cell"), kCell);
+  GridInterpolation how = GridInterpolation::tricubic;
+  if (const Entry* x = params.find("interpolation")) {
+    const std::string word = read_word(*x, child(here, "interpolation"), "an interpolation");
+    if (word == "trilinear")
+      how = GridInterpolation::trilinear;
+    else if (word != "tricubic")
+      fail(x->mark(), child(here, "interpolation"),
+           "expected tricubic or trilinear, got '" + word + "'");
+  }
+  if (std::filesystem::path(name).extension() == ".vdb")
+    fail(file->mark(), child(here, "file"),
+         "OpenVDB volumes (.vdb) need a build with OpenVDB, which this one does not have; give "
+         "a closed OBJ mesh instead");
+  try {
+    const ObjMesh mesh = read_obj_file(relative_to_scene(name));
+    return SdfNode::from_grid(
+        std::make_shared<const SdfGrid>(SdfGrid::from_mesh(mesh.vertices, mesh.triangles, size)),
+        how);
+  } catch (const ObjError& error) {
+    fail(file->mark(), child(here, "file"), error.what());
+  } catch (const Error& error) {
+    fail(file->mark(), child(here, "file"), error.what());
+  }
 }
 
 SdfNode Loader::load_sdf(std::string_view text) {

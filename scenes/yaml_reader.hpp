@@ -300,6 +300,8 @@ class Loader {
  private:
   ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
   SweepAxis load_sweep_axis(const Entry& e) const;
+  std::filesystem::path relative_to_scene(const std::string& name) const;
+  SdfNode load_sdf_grid(const Fields& params, const std::string& here) const;
   SdfNode load_sdf_node(const Node& node, const YAML::Mark& mark, const std::string& path,
                         int depth) const;
   SweepPlace place_of(const YAML::Mark& mark) const;

@@ -56,13 +56,13 @@ inline Sample capsule(const Vec3& p, Real radius, Real half_length) {
 
 // Axis z, from -half_length to half_length.
 inline Sample cylinder(const Vec3& p, Real radius, Real half_length) {
-  const Real rho = std::hypot(p.x(), p.y());
+  const Real rho = std::sqrt(p.x() * p.x() + p.y() * p.y());
   const Vec3 radial = rho > 0 ? Vec3(p.x() / rho, p.y() / rho, 0) : Vec3::UnitX();
   const Vec3 axial(0, 0, sign_of(p.z()));
   const Real dr = rho - radius;
   const Real dz = std::abs(p.z()) - half_length;
   if (dr > 0 && dz > 0) {
-    const Real d = std::hypot(dr, dz);
+    const Real d = std::sqrt(dr * dr + dz * dz);
     return {d, (dr * radial + dz * axial) / d};
   }
   return dr >= dz ? Sample{dr, radial} : Sample{dz, axial};
@@ -71,10 +71,10 @@ inline Sample cylinder(const Vec3& p, Real radius, Real half_length) {
 // A ring torus about the z axis: the circle of `major_radius` in the xy plane, swept by a
 // sphere of `minor_radius`.
 inline Sample torus(const Vec3& p, Real major_radius, Real minor_radius) {
-  const Real rho = std::hypot(p.x(), p.y());
+  const Real rho = std::sqrt(p.x() * p.x() + p.y() * p.y());
   const Vec3 radial = rho > 0 ? Vec3(p.x() / rho, p.y() / rho, 0) : Vec3::UnitX();
   const Real a = rho - major_radius;
-  const Real n = std::hypot(a, p.z());
+  const Real n = std::sqrt(a * a + p.z() * p.z());
   return {n - minor_radius, n > 0 ? Vec3(a / n * radial + Vec3(0, 0, p.z() / n)) : radial};
 }
 

@@ -52,6 +52,21 @@ SdfNode SdfNode::plane() {
   return n;
 }
 
+SdfNode SdfNode::from_grid(std::shared_ptr<const SdfGrid> grid, GridInterpolation how) {
+  SdfNode n;
+  n.kind = SdfKind::grid;
+  n.grid = std::move(grid);
+  n.interpolation = how;
+  return n;
+}
+
+SdfNode SdfNode::from_network(std::shared_ptr<const NeuralSdf> network) {
+  SdfNode n;
+  n.kind = SdfKind::neural;
+  n.neural = std::move(network);
+  return n;
+}
+
 SdfNode SdfNode::combine(SdfKind operation, std::vector<SdfNode> operands, Real k) {
   SdfNode n;
   n.kind = operation;
@@ -69,7 +84,7 @@ SdfNode SdfNode::placed(const Transform& p) const {
 namespace {
 
 bool is_operation(SdfKind kind) {
-  return kind > SdfKind::plane;
+  return kind >= SdfKind::union_of;
 }
 
 std::string text(Real v) {
@@ -168,6 +183,19 @@ void SdfTree::flatten(const SdfNode& n, std::uint32_t slot, const std::string& p
       break;
     case SdfKind::plane:
       break;
+    case SdfKind::grid:
+      if (!n.grid)
+        throw Error("SDF " + path + ": a grid node without its grid");
+      f.interpolation = n.interpolation;
+      f.first = std::uint32_t(grids_.size());
+      grids_.push_back(n.grid);
+      break;
+    case SdfKind::neural:
+      if (!n.neural)
+        throw Error("SDF " + path + ": a neural node without its network");
+      f.first = std::uint32_t(networks_.size());
+      networks_.push_back(n.neural);
+      break;
     case SdfKind::smooth_union_of:
       if (!(std::isfinite(n.k) && n.k > 0 && n.k <= 1e9))
         throw Error("SDF " + path + ": k must be positive and at most 1e9 (1/m), got " + text(n.k));
@@ -185,8 +213,10 @@ void SdfTree::flatten(const SdfNode& n, std::uint32_t slot, const std::string& p
   }
   if (!is_operation(n.kind) && !n.children.empty())
     throw Error("SDF " + path + ": a primitive has no operands");
-  f.first = static_cast<std::uint32_t>(nodes_.size());
-  f.count = static_cast<std::uint32_t>(n.children.size());
+  if (is_operation(n.kind)) {
+    f.first = static_cast<std::uint32_t>(nodes_.size());
+    f.count = static_cast<std::uint32_t>(n.children.size());
+  }
   nodes_[slot] = f;
   // Children sit side by side, so an operation walks a contiguous run of nodes.
   nodes_.resize(nodes_.size() + n.children.size());
@@ -217,6 +247,12 @@ Aabb SdfTree::bounds_of(std::uint32_t i) const {
       break;
     case SdfKind::plane:
       local = {Vec3(-inf, -inf, -inf), Vec3(inf, inf, 0)};
+      break;
+    case SdfKind::grid:
+      local = grids_[f.first]->box();
+      break;
+    case SdfKind::neural:
+      local = networks_[f.first]->bounds();
       break;
     case SdfKind::union_of:
     case SdfKind::smooth_union_of:
@@ -266,6 +302,12 @@ sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world) const {
       break;
     case SdfKind::plane:
       s = sdf::plane(p);
+      break;
+    case SdfKind::grid:
+      s = grids_[f.first]->sample(p, f.interpolation);
+      break;
+    case SdfKind::neural:
+      s = networks_[f.first]->sample(p);
       break;
     case SdfKind::union_of:
     case SdfKind::intersection_of: {

@@ -1,7 +1,8 @@
 // A solid given by its signed distance: analytic primitives (sphere, box, capsule, cylinder,
-// torus, half-space), each placed by a rigid transform, combined by constructive solid geometry
-// (union, intersection, difference, smooth union) to any depth. SdfTree::sample gives the signed
-// distance of a point and its gradient, evaluated without allocating.
+// torus, half-space), grids and networks, each placed by a rigid transform, combined by
+// constructive solid geometry (union, intersection, difference, smooth union) to any depth.
+// SdfTree::sample gives the signed distance of a point and its gradient, evaluated without
+// allocating.
 //
 // Exact and bound: a primitive's distance is exact (|phi| is the distance to the surface and
 // |grad phi| = 1). A union's is exact outside it and a bound inside; an intersection's and a
@@ -15,11 +16,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "collision/aabb.hpp"
 #include "collision/math.hpp"
+#include "collision/sdf/neural_sdf.hpp"
+#include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 
 namespace tumble {
@@ -31,6 +35,8 @@ enum class SdfKind : std::uint8_t {
   cylinder,
   torus,
   plane,
+  grid,    // a grid of samples (collision/sdf/sdf_grid.hpp), interpolated
+  neural,  // a network (collision/sdf/neural_sdf.hpp)
   union_of,
   intersection_of,
   difference_of,  // the first child minus every other
@@ -47,7 +53,10 @@ struct SdfNode {
   Real major_radius = 0;             // torus [m]
   Real minor_radius = 0;             // torus [m]
   Real k = 0;                        // smooth union: sharpness [1/m]; the blend is about 1/k wide
-  std::vector<SdfNode> children;     // the operations' operands
+  std::shared_ptr<const SdfGrid> grid;  // grid
+  GridInterpolation interpolation = GridInterpolation::tricubic;
+  std::shared_ptr<const NeuralSdf> neural;  // neural
+  std::vector<SdfNode> children;            // the operations' operands
 
   static SdfNode sphere(Real radius);
   static SdfNode box(const Vec3& half_extents);
@@ -55,6 +64,9 @@ struct SdfNode {
   static SdfNode cylinder(Real radius, Real half_length);
   static SdfNode torus(Real major_radius, Real minor_radius);
   static SdfNode plane();
+  static SdfNode from_grid(std::shared_ptr<const SdfGrid> grid,
+                           GridInterpolation how = GridInterpolation::tricubic);
+  static SdfNode from_network(std::shared_ptr<const NeuralSdf> network);
   static SdfNode combine(SdfKind operation, std::vector<SdfNode> operands, Real k = 0);
   SdfNode placed(const Transform& pose) const;
 };
@@ -78,7 +90,8 @@ class SdfTree {
   // A box holding every point with phi <= 0; infinite along the axes a half-space leaves open.
   const Aabb& bounds() const { return bounds_; }
   bool is_bounded() const;
-  // Whether |phi| is the distance to the surface everywhere (a lone primitive).
+  // Whether |phi| is the distance to the surface everywhere (a lone analytic primitive; a grid's
+  // and a network's values are approximations of it).
   bool is_exact() const { return nodes_[0].kind <= SdfKind::plane; }
   int node_count() const { return static_cast<int>(nodes_.size()); }
 
@@ -90,14 +103,17 @@ class SdfTree {
     Real a = 0;  // radius, major radius, or k
     Real b = 0;  // half length or minor radius
     Vec3 half_extents = Vec3::Zero();
-    std::uint32_t first = 0;  // children: nodes_[first, first + count)
+    std::uint32_t first = 0;  // children: nodes_[first, first + count); a leaf's table index
     std::uint32_t count = 0;
+    GridInterpolation interpolation = GridInterpolation::tricubic;
   };
   sdf::Sample sample_node(std::uint32_t i, const Vec3& p) const;
   void flatten(const SdfNode& node, std::uint32_t slot, const std::string& path, int depth);
   Aabb bounds_of(std::uint32_t i) const;
 
   std::vector<Flat> nodes_;
+  std::vector<std::shared_ptr<const SdfGrid>> grids_;
+  std::vector<std::shared_ptr<const NeuralSdf>> networks_;
   Aabb bounds_;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "collision/closest_point_on_triangle.hpp"
 #include "collision/shapes/shape_rows.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 
@@ -74,8 +75,8 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   const TriangleMesh& mesh = *s.mesh;
   Real best = std::numeric_limits<Real>::infinity();
   for (int tri = 0; tri < mesh.triangle_count(); ++tri) {
-    const Vec3 q = shape_geometry::closest_point_on_triangle(
-        p, mesh.corner(tri, 0), mesh.corner(tri, 1), mesh.corner(tri, 2));
+    const Vec3 q =
+        closest_point_on_triangle(p, mesh.corner(tri, 0), mesh.corner(tri, 1), mesh.corner(tri, 2));
     best = std::min(best, (p - q).norm());
   }
   return best;

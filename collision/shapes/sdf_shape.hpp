@@ -60,9 +60,12 @@ class SdfShape {
   const std::vector<Vec3>& surface_points() const { return points_; }
 
   // Calls f(index) for every surface point in `box` (local frame), in index order within each
-  // bucket and buckets in x-fastest order: deterministic.
-  template <class F>
-  void for_each_surface_point_in(const Aabb& box, F&& f) const {
+  // bucket and buckets in x-fastest order: deterministic. `near(centre, radius)` is asked first
+  // for each bucket holding points (the ball around it that holds them); a bucket it refuses is
+  // skipped whole, which is how a caller culls by a partner's distance (a 1-Lipschitz field
+  // farther than radius + margin from the centre has none of its points within the margin).
+  template <class Near, class F>
+  void for_each_surface_point_in(const Aabb& box, Near&& near, F&& f) const {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
       const Real a = (box.min[k] - local_bounds_.min[k]) / bucket_;
@@ -72,18 +75,31 @@ class SdfShape {
       lo[k] = a < 0 ? 0 : int(a);
       hi[k] = b >= Real(buckets_[k] - 1) ? buckets_[k] - 1 : int(b);
     }
+    const Real radius = bucket_ * Real(0.8660254037844386);
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) {
           const std::size_t cell =
               std::size_t(x) + std::size_t(buckets_[0]) *
                                    (std::size_t(y) + std::size_t(buckets_[1]) * std::size_t(z));
+          if (bucket_start_[cell] == bucket_start_[cell + 1])
+            continue;
+          const Vec3 centre =
+              local_bounds_.min +
+              bucket_ * Vec3(Real(x) + Real(0.5), Real(y) + Real(0.5), Real(z) + Real(0.5));
+          if (!near(centre, radius))
+            continue;
           for (std::uint32_t i = bucket_start_[cell]; i < bucket_start_[cell + 1]; ++i) {
             const Vec3& p = points_[bucket_points_[i]];
             if (box.contains(p))
               f(int(bucket_points_[i]));
           }
         }
+  }
+  template <class F>
+  void for_each_surface_point_in(const Aabb& box, F&& f) const {
+    for_each_surface_point_in(
+        box, [](const Vec3&, Real) { return true; }, f);
   }
 
  private:

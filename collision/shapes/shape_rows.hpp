@@ -31,9 +31,6 @@ inline Real sign_or_plus(Real x) {
 // First entering root of |o + t d|^2 = r^2 with t in [0, 1]; the ray starts outside.
 bool sphere_hit(const Vec3& o, const Vec3& d, Real r, Real& t);
 
-// The closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 2005, 5.1.5).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
 // The side of a disc of `radius` swept along z from -half_length to half_length, the part of
 // the ray cast the cylinder and the capsule share: the entering fraction, or infinity when the
 // ray misses the side (then `normal` is +z).

@@ -87,3 +87,30 @@ def test_distance_refuses_what_it_cannot_answer():
         tumble.distance(sphere, [0, 0, 0, 2, 0, 0, 0], sphere, [0, 0, 3])
     with pytest.raises(tumble.SceneError, match="shape_a"):
         tumble.distance({"type": "sphere", "radius": -1}, [0, 0, 0], sphere, [0, 0, 3])
+
+
+def test_an_sdf_body_rests_on_its_tube_in_a_world():
+    # type: sdf in a scene given as text: a torus (ring 0.4 m, tube 0.1 m) dropped onto the floor
+    # settles with its centre a tube's radius up.
+    scene = tumble.load_scene_text(
+        """
+world: {dt: 0.016666666666666666}
+bodies:
+  - {name: floor, shape: {type: plane}, static: true}
+  - name: ring
+    shape: {type: sdf, sdf: {torus: {major_radius: 0.4, minor_radius: 0.1}}}
+    density: 500
+    position: [0, 0, 0.12]
+""",
+        "torus.yaml",
+    )
+    world = tumble.World(scene)
+    ring = world.body("ring")
+    world.step(120)
+    state = world.body_state(ring)
+    assert abs(state[2] - 0.1) < 1e-3
+    assert np.linalg.norm(state[7:10]) < 1e-3
+    with pytest.raises(tumble.SceneError, match="bounded solid"):
+        tumble.load_scene_text(
+            "bodies:\n  - {name: g, mass: 1, shape: {type: sdf, sdf: {plane: {}}}}\n", "half.yaml"
+        )

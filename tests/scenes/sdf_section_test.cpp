@@ -87,5 +87,43 @@ TEST(SdfYaml, MistakesNameTheLineAndField) {
   expect(deep, "s.yaml", "deeper than 64");
 }
 
+// Grid and network nodes read their files relative to the source's folder; the test names the
+// source as a file in the repository so that relative paths resolve there.
+TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
+  const std::string source = std::string(TUMBLE_SOURCE_DIR) + "/scenes/sdf/here.yaml";
+  const SdfTree grid(load_sdf_string(
+      "{grid: {file: meshes/bowl_closed.obj, cell: 0.05, interpolation: trilinear}}", source));
+  // The bowl's solid: inside the box's walls, outside in the carved sphere.
+  EXPECT_LT(grid.distance(Vec3(0.65, 0, 0)), 0);
+  EXPECT_GT(grid.distance(Vec3(0, 0, 0.2)), 0);
+  EXPECT_NEAR(grid.distance(Vec3(0, 0, 0.2)), 0.6 - 0.3, 0.05);
+  const SdfTree net(
+      load_sdf_string("{neural: {file: ../../tests/data/neural/torus_sdf.json}}", source));
+  // The committed fit: a torus of ring 0.6 m and tube 0.2 m, trained near its surface
+  // (tests/data/neural/README.md: 5.7 mm at worst there); deep inside and far out, only signs.
+  EXPECT_NEAR(net.distance(Vec3(0.8, 0, 0)), 0, 6e-3);
+  EXPECT_NEAR(net.distance(Vec3(0, 0.4, 0)), 0, 6e-3);
+  EXPECT_LT(net.distance(Vec3(0.6, 0, 0)), -0.15);
+  EXPECT_GT(net.distance(Vec3(0, 0, 0)), 0.3);
+  const auto expect = [&](const std::string& yaml, const std::string& where,
+                          const std::string& what) {
+    try {
+      load_sdf_string(yaml, source);
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect("{grid: {file: meshes/bowl_closed.obj}}", "sdf.grid.cell", "needs 'file'");
+  expect("{grid: {file: meshes/bowl_closed.obj, cell: 0}}", "sdf.grid.cell", "got 0");
+  expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, interpolation: cubic}}",
+         "sdf.grid.interpolation", "tricubic or trilinear");
+  expect("{grid: {file: meshes/bowl_inner.obj, cell: 0.1}}", "sdf.grid.file", "not closed");
+  expect("{grid: {file: meshes/missing.obj, cell: 0.1}}", "sdf.grid.file", "missing.obj");
+  expect("{grid: {file: part.vdb, cell: 0.1}}", "sdf.grid.file", "OpenVDB");
+  expect("{neural: {file: nothing.json}}", "sdf.neural.file", "nothing.json");
+}
+
 }  // namespace
 }  // namespace tumble

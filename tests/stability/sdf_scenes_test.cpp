@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "tests/property_scale.hpp"
 #include "tumble/load_scene.hpp"
 #include "tumble/world.hpp"
 
@@ -128,6 +129,76 @@ TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
   EXPECT_LT(mesh.box_tilt, 1e-3);
   EXPECT_NEAR(mesh.capsule.z(), csg.capsule.z(), 1e-3);
   EXPECT_LT((mesh.capsule - csg.capsule).head<2>().norm(), 2.5e-3) << mesh.capsule.transpose();
+}
+
+}  // namespace
+}  // namespace tumble
+
+namespace tumble {
+namespace {
+
+TEST(SdfScenes, FiftyBodiesPouredIntoAGridBowlStayInIt) {
+  // The bowl is a grid SDF of a closed mesh (2 cm cells, tricubic): the inside of a sphere of
+  // radius 0.6 m centred 0.8 m up, cut out of a box 1.4 m wide and 0.6 m tall. 50 bodies of five
+  // kinds are dropped into it from 0.75-1 m. Every body must end inside the bowl (its centre
+  // within the sphere and above its lowest point), at rest, with no energy from nowhere. The
+  // sanitizer run (TUMBLE_PROPERTY_SCALE < 1) checks the first second only.
+  World world(sdf_scene("pour_into_grid_bowl.yaml"));
+  const Real seconds = property_scale() < 1 ? 1.0 : 4.0;
+  const int steps = int(std::lround(seconds / world.scene().world.dt));
+  const Vec3 centre(0, 0, 0.8);
+  std::vector<BodyId> bodies;
+  for (BodyId id : world.bodies())
+    if (world.name(id).rfind("body", 0) == 0)
+      bodies.push_back(id);
+  ASSERT_EQ(bodies.size(), 50u);
+  Real highest = 0;
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    for (BodyId id : bodies)
+      highest = std::max(highest, world.body_state(id).position.z());
+  }
+  EXPECT_LT(highest, 1.05);  // nothing thrown up
+  Real fastest = 0;
+  for (BodyId id : bodies) {
+    const BodyState s = world.body_state(id);
+    ASSERT_TRUE(s.position.allFinite()) << world.name(id);
+    EXPECT_LT((s.position - centre).norm(), 0.6) << world.name(id) << " " << s.position.transpose();
+    EXPECT_GT(s.position.z(), 0.2) << world.name(id);
+    fastest = std::max(fastest, s.velocity.norm());
+  }
+  if (property_scale() >= 1) {
+    EXPECT_LT(fastest, 0.05) << "the pile is still moving";
+  }
+}
+
+}  // namespace
+}  // namespace tumble
+
+namespace tumble {
+namespace {
+
+TEST(SdfScenes, NutThreadsOntoTheBoltAndRestsOnItsHead) {
+  // Field against field only: the nut's hole around the shaft, its face on the head.
+  World world(sdf_scene("nut_on_bolt.yaml"));
+  const BodyId nut = world.body("nut");
+  world.step(240);  // 1 s: it has fallen 0.52 m down the shaft and stopped
+  const BodyState landed = world.body_state(nut);
+  Real drift = 0, lowest = landed.position.z(), widest = 0;
+  const int steps = int(std::lround(4 * property_scale() / world.scene().world.dt));
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    const BodyState s = world.body_state(nut);
+    drift = std::max(drift, (s.position - landed.position).norm());
+    lowest = std::min(lowest, s.position.z());
+    widest = std::max(widest, s.position.head<2>().norm());
+  }
+  const BodyState end = world.body_state(nut);
+  EXPECT_NEAR(landed.position.z(), 0.1, 1e-3);  // on the head: 0.06 + half its thickness
+  EXPECT_NEAR(lowest, 0.1, 1e-3);
+  EXPECT_LT(widest, 0.052 - 0.045);  // never outside the play the hole leaves round the shaft
+  EXPECT_LT(drift, 1e-3);
+  EXPECT_LT(std::acos(std::min(Real(1), (end.orientation * Vec3::UnitZ()).z())), 1e-3);
 }
 
 }  // namespace

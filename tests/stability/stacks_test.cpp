@@ -65,6 +65,13 @@ TEST(Stability, SquarePyramidOf385Stands) {
 }
 
 TEST(Stability, WallPyramidOf820Stands) {
+  // Under the sanitizers (TUMBLE_PROPERTY_SCALE < 1) the penalty solver's part is left to the
+  // 385-box pyramid above, which runs the same code: here it was a tenth of the instrumented
+  // run's test time for no path of its own.
+  if (property_scale() < 1) {
+    pyramid_stands("wall_pyramid40.yaml", "wall_pyramid40 (820)", {SolverType::impulse});
+    return;
+  }
   pyramid_stands("wall_pyramid40.yaml", "wall_pyramid40 (820)",
                  {SolverType::impulse, SolverType::penalty});
 }

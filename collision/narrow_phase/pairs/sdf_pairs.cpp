@@ -3,8 +3,8 @@
 // Everything runs in the SDF's frame (B), with two kinds of candidate points:
 //  1. Points of the other shape (A) evaluated in B's field: a sphere's centre and points along a
 //     capsule's core (direct evaluation: the contact is phi - radius deep along grad phi), and
-//     points spread over the surface of a box, cylinder, hull or mesh triangle (vertices, edges
-//     and faces at about B's surface-point spacing).
+//     the corners and edges of a box, cylinder or hull (at about B's surface-point spacing) and
+//     points over a mesh triangle.
 //  2. B's surface points (SdfShape::surface_point) that lie inside A's bounding box, evaluated in
 //     A's own signed distance; for an SDF against an SDF, each one's points in the other's field.
 //     Such a point lies a fraction of a cell from the true deepest point, so the deepest of them
@@ -37,9 +37,10 @@ constexpr int kMaxSamplesPerSide = 8;
 constexpr Real kPi = Real(3.14159265358979323846);
 
 // The signed distance of shape A, placed at `pose` in B's frame, at a point of B's frame, with
-// its gradient in B's frame. Exact for the primitives; for a hull the distance is exact (nearest
-// face inside, nearest feature outside) and the gradient a central difference.
-sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x) {
+// its gradient in B's frame (when asked: `gradient`). Exact for the primitives; for a hull the
+// distance is exact (nearest face inside, nearest feature outside) and the gradient a central
+// difference, six more distances, so it is asked only for the points being refined.
+sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x, bool gradient) {
   const Vec3 p = pose.apply_inverse(x);
   sdf::Sample s;
   switch (a.type) {
@@ -64,6 +65,8 @@ sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x)
     default: {
       const auto distance = shape_ops(a.type).signed_distance;
       s.distance = distance(a, p);
+      if (!gradient)
+        return s;
       const Real h = bounding_radius(a) * Real(1e-6);
       for (int k = 0; k < 3; ++k) {
         Vec3 e = Vec3::Zero();
@@ -116,14 +119,14 @@ Vec3 refine_on_surface(const Surface& surface, const Partner& partner, Vec3 x, R
   };
   sdf::Sample here;
   x = project(x, here);
-  sdf::Sample other = partner(x);
+  sdf::Sample other = partner(x, true);
   Vec3 t;
   Real delta = misalignment(here, other, t);
   Real alpha = cell;
   for (int i = 0; i < kRefineSteps && delta > Real(1e-12); ++i) {
     sdf::Sample next_here;
     const Vec3 next = project(x - alpha * t, next_here);
-    const sdf::Sample next_other = partner(next);
+    const sdf::Sample next_other = partner(next, true);
     if (!(next_other.distance < other.distance)) {
       alpha /= 2;
       if (alpha < cell * Real(1e-6))
@@ -153,37 +156,34 @@ void for_each_surface_sample(const Shape& a, Real spacing, F&& f) {
   std::uint16_t id = 0;
   switch (a.type) {
     case ShapeType::box: {
+      // Corners and points along the edges; a face's inside meets the field only where the field
+      // bulges into it, which the field's own points (kind 2) find.
       const Vec3& h = a.half_extents;
+      for (int c = 0; c < 8; ++c)
+        f(Vec3((c & 1 ? 1 : -1) * h.x(), (c & 2 ? 1 : -1) * h.y(), (c & 4 ? 1 : -1) * h.z()), id++);
       for (int axis = 0; axis < 3; ++axis) {
         const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        const int nu = divisions(2 * h[u]), nv = divisions(2 * h[v]);
-        for (int side = -1; side <= 1; side += 2)
-          for (int i = 0; i <= nu; ++i)
-            for (int j = 0; j <= nv; ++j) {
-              Vec3 p;
-              p[axis] = side * h[axis];
-              p[u] = -h[u] + 2 * h[u] * Real(i) / Real(nu);
-              p[v] = -h[v] + 2 * h[v] * Real(j) / Real(nv);
-              f(p, id++);
-            }
+        const int n = divisions(2 * h[axis]);
+        for (int c = 0; c < 4; ++c)
+          for (int i = 1; i < n; ++i) {
+            Vec3 p;
+            p[axis] = -h[axis] + 2 * h[axis] * Real(i) / Real(n);
+            p[u] = (c & 1 ? 1 : -1) * h[u];
+            p[v] = (c & 2 ? 1 : -1) * h[v];
+            f(p, id++);
+          }
       }
       return;
     }
     case ShapeType::cylinder: {
+      // The two rims and the caps' centres (the side's and the caps' insides are the field's
+      // points' to find, as for a box's faces).
       const int around = std::clamp(int(std::ceil(2 * kPi * a.radius / spacing)), 8, 64);
-      const int rings = divisions(a.radius);
-      const int along = divisions(2 * a.half_length);
       for (int k = 0; k < around; ++k) {
         const Real angle = 2 * kPi * Real(k) / Real(around);
-        const Vec3 dir(std::cos(angle), std::sin(angle), 0);
-        for (int j = 0; j <= along; ++j)
-          f(Vec3(a.radius * dir +
-                 Vec3(0, 0, -a.half_length + 2 * a.half_length * Real(j) / Real(along))),
-            id++);
-        for (int r = 1; r < rings; ++r)
-          for (int side = -1; side <= 1; side += 2)
-            f(Vec3(a.radius * Real(r) / Real(rings) * dir + Vec3(0, 0, side * a.half_length)),
-              id++);
+        const Vec3 rim(a.radius * std::cos(angle), a.radius * std::sin(angle), 0);
+        f(Vec3(rim + Vec3(0, 0, -a.half_length)), id++);
+        f(Vec3(rim + Vec3(0, 0, a.half_length)), id++);
       }
       f(Vec3(0, 0, -a.half_length), id++);
       f(Vec3(0, 0, a.half_length), id++);
@@ -239,9 +239,15 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
   }();
   const Real region_size = field.bounding_radius() / 4;
   const Vec3& origin = field.local_bounds().min;
-  field.for_each_surface_point_in(local, [&](int i) {
+  // Buckets of points farther from the partner than their ball's radius plus the margin are
+  // skipped whole: every field here is 1-Lipschitz (distances, their CSG bounds, interpolated
+  // grids to their interpolation error, which the margin covers).
+  const auto near = [&](const Vec3& centre, Real radius) {
+    return partner(surface.pose.apply(centre), false).distance < radius + margin;
+  };
+  field.for_each_surface_point_in(local, near, [&](int i) {
     const Vec3& own = field.surface_point(i);
-    const Real d = partner(surface.pose.apply(own)).distance;
+    const Real d = partner(surface.pose.apply(own), false).distance;
     if (!(d < margin))
       return;
     const Vec3 cell = ((own - origin) / region_size).array().floor();
@@ -259,7 +265,7 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
     const Vec3 start = surface.pose.apply(field.surface_point(raw.index));
     const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size());
     const sdf::Sample own = surface.sample(x);
-    const sdf::Sample other = partner(x);
+    const sdf::Sample other = partner(x, true);
     if (!(other.distance < margin))
       continue;
     // The partner is pushed off the surface point the shortest way out of it: against its own
@@ -311,7 +317,9 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
   if (a.type != ShapeType::sphere && a.type != ShapeType::capsule) {
     const Aabb a_box =
         a.type == ShapeType::plane ? field.local_bounds() : world_aabb(a, pose_a).inflated(margin);
-    const auto partner = [&](const Vec3& x) { return partner_sample(a, pose_a, x); };
+    const auto partner = [&](const Vec3& x, bool gradient) {
+      return partner_sample(a, pose_a, x, gradient);
+    };
     surface_points_against(
         surface, a_box, partner, margin,
         [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
@@ -375,7 +383,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
           return false;
       return true;
     };
-    const auto partner = [&](const Vec3& x) {
+    const auto partner = [&](const Vec3& x, bool) {
       sdf::Sample s;
       s.distance = normal.dot(x - v0);
       s.gradient = normal;
@@ -431,14 +439,14 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   ContactCollector collector;
   // B's points in A's field: A is pushed along B's normal.
   surface_points_against(
-      surface_b, overlap, [&](const Vec3& x) { return surface_a.sample(x); }, margin,
+      surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin,
       [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
         const Real depth = -other.distance;
         collector.add(n, x - n * depth, depth, {kSdfSurface, id});
       });
   // A's points in B's field: the point lies on A, pushed along B's gradient.
   surface_points_against(
-      surface_a, overlap, [&](const Vec3& x) { return surface_b.sample(x); }, margin,
+      surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin,
       [&](const Vec3& x, const Vec3&, const sdf::Sample& other, std::uint16_t id) {
         collector.add(normalized_or(other.gradient, Vec3::UnitZ()), x, -other.distance,
                       {id, kSdfSurface});
