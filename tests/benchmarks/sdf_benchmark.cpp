@@ -1,13 +1,17 @@
 // Signed distance fields and distance gradients (docs/sdf.md): ns per SDF sample (a primitive, a
-// placed primitive, CSG trees of growing size, the smooth union), and the cost of the distance
-// gradients of distance_between relative to the distance alone, per pair type.
+// placed primitive, CSG trees of growing size, the smooth union, a grid trilinear and tricubic, a
+// network of the committed fit's size), the cost of an SDF contact against the analytic or GJK/EPA
+// contact of the same two shapes, and the cost of the distance gradients of distance_between
+// relative to the distance alone, per pair type.
 #include <benchmark/benchmark.h>
 
 #include <random>
 #include <vector>
 
+#include "collision/narrow_phase/narrow_phase.hpp"
 #include "collision/sdf/sdf_tree.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "tumble/distance.hpp"
 
 namespace tumble {
@@ -69,6 +73,93 @@ void BM_SdfBowl(benchmark::State& state) {
                           SdfNode::sphere(0.9).placed({Vec3(0, 0, 0.6), Quat::Identity()})})));
 }
 BENCHMARK(BM_SdfBowl);
+
+// A torus (0.4, 0.15) gridded from its exact field at 2 cm cells; samples near its surface.
+void run_grid(benchmark::State& state, GridInterpolation how) {
+  const Real cell = 0.02, half = 0.65;
+  const int n = int(2 * half / cell) + 1, nz = int(2 * 0.25 / cell) + 1;
+  const Vec3 origin(-half, -half, -0.25);
+  std::vector<Real> values;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        values.push_back(sdf::torus(origin + cell * Vec3(i, j, k), 0.4, 0.15).distance);
+  const SdfGrid grid(origin, cell, {n, n, nz}, std::move(values));
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  std::vector<Vec3> points;
+  while (points.size() < 4096) {
+    const Vec3 p(0.6 * u(rng), 0.6 * u(rng), 0.2 * u(rng));
+    if (std::abs(sdf::torus(p, 0.4, 0.15).distance) < 0.05)
+      points.push_back(p);
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(grid.sample(points[i], how));
+    i = (i + 1) & 4095;
+  }
+}
+void BM_SdfGridTrilinear(benchmark::State& state) {
+  run_grid(state, GridInterpolation::trilinear);
+}
+void BM_SdfGridTricubic(benchmark::State& state) {
+  run_grid(state, GridInterpolation::tricubic);
+}
+BENCHMARK(BM_SdfGridTrilinear);
+BENCHMARK(BM_SdfGridTricubic);
+
+// A softplus network of the committed fit's shape (tests/data/neural: 2 bands, 3 hidden layers of
+// 32), random weights: the cost does not depend on their values.
+void BM_SdfNeural(benchmark::State& state) {
+  std::mt19937_64 rng(10);
+  std::normal_distribution<Real> w(0, 0.3);
+  NeuralSdfDescription d;
+  d.frequencies = 2;
+  d.bounds = {Vec3::Constant(-1), Vec3::Constant(1)};
+  int inputs = 3 + 6 * d.frequencies;
+  for (int layer = 0; layer < 4; ++layer) {
+    NeuralLayer l;
+    l.inputs = inputs;
+    l.outputs = layer == 3 ? 1 : 32;
+    l.activation = layer == 3 ? Activation::none : Activation::softplus;
+    for (int k = 0; k < l.inputs * l.outputs; ++k)
+      l.weights.push_back(w(rng));
+    l.bias.assign(std::size_t(l.outputs), 0.1);
+    inputs = l.outputs;
+    d.layers.push_back(std::move(l));
+  }
+  const NeuralSdf net(std::move(d));
+  const std::vector<Vec3> points = sample_points(4096);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(net.sample(points[i] / 2));
+    i = (i + 1) & 4095;
+  }
+}
+BENCHMARK(BM_SdfNeural);
+
+// One contact query of shape A (range: 0 sphere, 1 box, 2 cylinder, 3 hull) against a box of
+// half extents (0.5, 0.4, 0.3), given as an SDF (state.range(1) = 1) or as the box itself (0: the
+// analytic pair, box-box by SAT, cylinder-box and hull-box by GJK/EPA), at 256 poses touching it.
+Shape shape_of(int kind);
+void BM_Contact(benchmark::State& state) {
+  const Shape a = shape_of(int(state.range(0)));
+  const Vec3 half(0.5, 0.4, 0.3);
+  const Shape b = state.range(1) == 1 ? sdf_shape(SdfNode::box(half)) : Shape::box(half);
+  std::vector<Transform> poses;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  for (int i = 0; i < 256; ++i)
+    poses.push_back({Vec3(u(rng) * 0.4, u(rng) * 0.3, 0.3 + bounding_radius(a) * 0.9),
+                     Quat(Eigen::AngleAxis<Real>(u(rng) * 3, Vec3(u(rng), u(rng), 1).normalized()))});
+  std::size_t i = 0;
+  Manifold m;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(collide(a, poses[i], b, Transform{}, 0.01, m));
+    i = (i + 1) & 255;
+  }
+}
+BENCHMARK(BM_Contact)->ArgsProduct({{0, 1, 2, 3}, {0, 1}});
 
 Shape shape_of(int kind) {
   switch (kind) {

@@ -203,3 +203,21 @@ TEST(SdfScenes, NutThreadsOntoTheBoltAndRestsOnItsHead) {
 
 }  // namespace
 }  // namespace tumble
+
+namespace tumble {
+namespace {
+
+TEST(SdfScenes, PenaltyContactOnAFieldIsTheSpringLaw) {
+  // Under the penalty solver a field's contact is f = -k phi grad phi - c v_n: the resting ball
+  // sinks m g / k, as it does on the analytic box beside it.
+  World world(sdf_scene("penalty_sphere_on_field.yaml"));
+  world.step(720);  // 3 s
+  const Real on_field = world.body_state(world.body("ball_on_field")).position.z();
+  const Real on_box = world.body_state(world.body("ball_on_box")).position.z();
+  const Real sink = 2 * 9.81 / 1e5;
+  EXPECT_NEAR(on_field, 0.3 - sink, 1e-9);
+  EXPECT_NEAR(on_field, on_box, 1e-12);
+}
+
+}  // namespace
+}  // namespace tumble

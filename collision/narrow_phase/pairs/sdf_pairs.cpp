@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "collision/narrow_phase/pairs/contact_collector.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
@@ -37,9 +38,9 @@ constexpr int kMaxSamplesPerSide = 8;
 constexpr Real kPi = Real(3.14159265358979323846);
 
 // The signed distance of shape A, placed at `pose` in B's frame, at a point of B's frame, with
-// its gradient in B's frame (when asked: `gradient`). Exact for the primitives; for a hull the
-// distance is exact (nearest face inside, nearest feature outside) and the gradient a central
-// difference, six more distances, so it is asked only for the points being refined.
+// its gradient in B's frame (when asked: `gradient`). Exact for the primitives and for a hull
+// inside it (the farthest face plane; outside, that plane's distance is a lower bound); any other
+// shape by its table distance and a central-difference gradient, asked only when refining.
 sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x, bool gradient) {
   const Vec3 p = pose.apply_inverse(x);
   sdf::Sample s;
@@ -62,6 +63,20 @@ sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x,
     case ShapeType::sdf:
       s = a.sdf->sample(p);
       break;
+    case ShapeType::hull: {
+      // The farthest face plane and its normal: the exact distance and gradient inside, where
+      // contacts are; outside (a point within the margin) a lower bound of the distance, so a
+      // speculative contact near an edge starts a hair early, never late.
+      s.distance = -std::numeric_limits<Real>::infinity();
+      for (const HullFace& f : a.hull->faces()) {
+        const Real d = f.normal.dot(p) - f.offset;
+        if (d > s.distance) {
+          s.distance = d;
+          s.gradient = f.normal;
+        }
+      }
+      break;
+    }
     default: {
       const auto distance = shape_ops(a.type).signed_distance;
       s.distance = distance(a, p);
