@@ -5,13 +5,16 @@
 // precision far from the origin; a plane is answered by the support of the other shape along its
 // normal. The gradients follow from the witness points and the normal (the header says why).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Geometry>
 
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "tumble/distance.hpp"
 #include "tumble/error.hpp"
 
@@ -24,12 +27,98 @@ bool is_convex(ShapeType t) {
 }
 
 void check(const Shape& s, const Transform& pose, const char* side) {
-  if (!is_convex(s.type) && s.type != ShapeType::plane)
+  if (!is_convex(s.type) && s.type != ShapeType::plane && s.type != ShapeType::sdf)
     throw Error(std::string("distance_between: shape ") + side + " is a " +
                 std::string(shape_type_name(s.type)) +
                 "; only convex shapes (sphere, box, capsule, cylinder, hull) and planes");
   if (!pose.translation.allFinite() || !pose.rotation.coeffs().allFinite())
     throw Error(std::string("distance_between: pose ") + side + " is not finite");
+}
+
+// A sphere or capsule A against a field B (collision/shapes/sdf_shape.hpp): the distance is
+// phi_B at the nearest point of A's core, less A's radius, and its derivatives come from grad phi
+// there (the envelope theorem again: the core point is where phi is least along the core). d/d x_A
+// = g, d/d turn of A = (c - x_A) x g, d/d x_B = -g, d/d turn of B = -(c - x_B) x g, with g =
+// grad phi in the world and c the core point; exact wherever phi is differentiable and its least
+// point on the core unique.
+ShapeDistance round_and_field(const Shape& a, const Transform& pose_a, const SdfShape& field,
+                              const Transform& pose_b) {
+  const auto phi_at = [&](const Vec3& world) {
+    sdf::Sample s = field.sample(pose_b.apply_inverse(world));
+    s.gradient = pose_b.rotate(s.gradient);
+    return s;
+  };
+  Vec3 core = pose_a.translation;
+  if (a.type == ShapeType::capsule) {
+    // The least phi along the core segment: 33 samples, then golden-section search around each
+    // of the three lowest sampled minima (phi along a segment may have several basins, two of
+    // them nearly as deep), the lowest result kept.
+    const Vec3 axis = pose_a.rotate(Vec3::UnitZ()) * a.half_length;
+    const auto at = [&](Real t) { return Vec3(pose_a.translation + t * axis); };
+    const auto phi_of = [&](Real t) { return field.distance(pose_b.apply_inverse(at(t))); };
+    constexpr int kSamples = 33;
+    std::array<Real, kSamples> samples;
+    for (int i = 0; i < kSamples; ++i)
+      samples[std::size_t(i)] = phi_of(-1 + 2 * Real(i) / (kSamples - 1));
+    std::array<int, 3> basins{-1, -1, -1};
+    for (int i = 0; i < kSamples; ++i) {
+      const Real v = samples[std::size_t(i)];
+      if ((i > 0 && samples[std::size_t(i - 1)] < v) ||
+          (i + 1 < kSamples && samples[std::size_t(i + 1)] < v))
+        continue;  // not a sampled minimum
+      // Insert into the three lowest, kept in order.
+      for (std::size_t k = 0; k < basins.size(); ++k)
+        if (basins[k] < 0 || v < samples[std::size_t(basins[k])]) {
+          for (std::size_t m = basins.size() - 1; m > k; --m)
+            basins[m] = basins[m - 1];
+          basins[k] = i;
+          break;
+        }
+    }
+    Real best_t = 0, best_phi = std::numeric_limits<Real>::infinity();
+    constexpr Real kGolden = Real(0.6180339887498949);
+    for (int basin : basins) {
+      if (basin < 0)
+        continue;
+      Real lo = -1 + 2 * Real(std::max(basin - 1, 0)) / (kSamples - 1);
+      Real hi = -1 + 2 * Real(std::min(basin + 1, kSamples - 1)) / (kSamples - 1);
+      Real x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+      Real f1 = phi_of(x1), f2 = phi_of(x2);
+      for (int step = 0; step < 60 && hi - lo > Real(1e-12); ++step) {
+        if (f1 <= f2) {
+          hi = x2;
+          x2 = x1;
+          f2 = f1;
+          x1 = hi - kGolden * (hi - lo);
+          f1 = phi_of(x1);
+        } else {
+          lo = x1;
+          x1 = x2;
+          f1 = f2;
+          x2 = lo + kGolden * (hi - lo);
+          f2 = phi_of(x2);
+        }
+      }
+      const Real t = (lo + hi) / 2, v = phi_of(t);
+      if (v < best_phi) {
+        best_phi = v;
+        best_t = t;
+      }
+    }
+    core = at(best_t);
+  }
+  const sdf::Sample s = phi_at(core);
+  ShapeDistance d;
+  const Real g2 = s.gradient.squaredNorm();
+  d.normal = g2 > 0 ? Vec3(s.gradient / std::sqrt(g2)) : Vec3::UnitZ();
+  d.distance = s.distance - a.radius;
+  d.point_a = core - a.radius * d.normal;
+  d.point_b = core - s.distance * d.normal;
+  d.gradient_a.head<3>() = s.gradient;
+  d.gradient_a.tail<3>() = (core - pose_a.translation).cross(s.gradient);
+  d.gradient_b.head<3>() = -s.gradient;
+  d.gradient_b.tail<3>() = -(core - pose_b.translation).cross(s.gradient);
+  return d;
 }
 
 void fill_gradients(ShapeDistance& d, const Transform& pose_a, const Transform& pose_b) {
@@ -131,6 +220,26 @@ ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Sh
                                const Transform& pose_b, bool gradients) {
   check(a, pose_a, "a");
   check(b, pose_b, "b");
+  if (a.type == ShapeType::sdf || b.type == ShapeType::sdf) {
+    const bool field_is_b = b.type == ShapeType::sdf;
+    const Shape& round = field_is_b ? a : b;
+    if (round.type != ShapeType::sphere && round.type != ShapeType::capsule)
+      throw Error("distance_between: a field against a " +
+                  std::string(shape_type_name(round.type)) +
+                  "; only spheres and capsules are measured against a field (docs/sdf.md)");
+    ShapeDistance d = field_is_b ? round_and_field(a, pose_a, *b.sdf, pose_b)
+                                 : round_and_field(b, pose_b, *a.sdf, pose_a);
+    if (!field_is_b) {
+      std::swap(d.point_a, d.point_b);
+      std::swap(d.gradient_a, d.gradient_b);
+      d.normal = -d.normal;
+    }
+    if (!gradients) {
+      d.gradient_a.setZero();
+      d.gradient_b.setZero();
+    }
+    return d;
+  }
   ShapeDistance d = measure(a, pose_a, b, pose_b);
   if (!gradients) {
     d.gradient_a.setZero();

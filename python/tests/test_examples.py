@@ -1,6 +1,6 @@
 """The Python examples run at a small size: the rollout prints its throughput, and the
 cross-entropy search learns to reach the goal and writes its plot, the SDF path optimisation
-clears its obstacles, the PyTorch wrapper of tumble.distance passes gradcheck, and a neural SDF
+clears its obstacles, the grasp placement puts both fingertips on the object, the PyTorch wrapper of tumble.distance passes gradcheck, and a neural SDF
 fitted by PyTorch reads back in tumble."""
 import os
 import re
@@ -47,6 +47,17 @@ def test_sdf_trajectory_finds_a_path_that_touches_nothing(tmp_path):
     optimised = float(re.search(r"optimised path: clearance ([-+0-9.]+) m", out).group(1))
     assert straight < -0.1, out  # the straight line runs through the obstacles
     assert optimised > 0.0, out  # the optimised path, sampled between waypoints too, does not
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_sdf_grasp_puts_both_tips_on_opposite_sides(tmp_path):
+    plot = tmp_path / "grasp.png"
+    out = run("sdf_grasp.py", "--starts", "3", "--iterations", "300", "--plot", str(plot))
+    best = re.search(r"best: start \d+, loss (\S+), tips (\S+) and (\S+) m from the surface, "
+                     r"normals ([0-9.]+) deg from opposite", out)
+    assert best, out
+    assert abs(float(best.group(2))) < 1e-6 and abs(float(best.group(3))) < 1e-6, out
+    assert float(best.group(4)) < 5.0, out
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

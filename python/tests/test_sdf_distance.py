@@ -114,3 +114,17 @@ bodies:
         tumble.load_scene_text(
             "bodies:\n  - {name: g, mass: 1, shape: {type: sdf, sdf: {plane: {}}}}\n", "half.yaml"
         )
+
+
+def test_distance_of_a_sphere_to_a_field_has_its_gradient():
+    # A ball 0.35 m above the torus's tube centre circle: 0.35 - 0.2 - 0.1 = 0.05 m apart, the
+    # normal straight up, and moving the ball along the normal changes the distance one for one.
+    torus = {"type": "sdf", "sdf": {"torus": {"major_radius": 0.6, "minor_radius": 0.2}}}
+    ball = {"type": "sphere", "radius": 0.1}
+    d = tumble.distance(ball, [0.6, 0, 0.35], torus, [0, 0, 0])
+    assert d["distance"] == pytest.approx(0.05, abs=1e-12)
+    np.testing.assert_allclose(d["normal"], [0, 0, 1], atol=1e-12)
+    np.testing.assert_allclose(d["gradient_a"], [0, 0, 1, 0, 0, 0], atol=1e-12)
+    with pytest.raises(tumble.Error, match="only spheres and capsules"):
+        tumble.distance({"type": "box", "half_extents": [0.1, 0.1, 0.1]}, [0, 0, 1], torus,
+                        [0, 0, 0])

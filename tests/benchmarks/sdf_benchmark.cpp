@@ -150,8 +150,9 @@ void BM_Contact(benchmark::State& state) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<Real> u(-1, 1);
   for (int i = 0; i < 256; ++i)
-    poses.push_back({Vec3(u(rng) * 0.4, u(rng) * 0.3, 0.3 + bounding_radius(a) * 0.9),
-                     Quat(Eigen::AngleAxis<Real>(u(rng) * 3, Vec3(u(rng), u(rng), 1).normalized()))});
+    poses.push_back(
+        {Vec3(u(rng) * 0.4, u(rng) * 0.3, 0.3 + bounding_radius(a) * 0.9),
+         Quat(Eigen::AngleAxis<Real>(u(rng) * 3, Vec3(u(rng), u(rng), 1).normalized()))});
   std::size_t i = 0;
   Manifold m;
   for (auto _ : state) {
