@@ -9,6 +9,7 @@
 #include <unordered_set>
 
 #include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/shape.hpp"
 #include "engine/number_text.hpp"
 #include "engine/scene_check.hpp"
 #include "engine/scene_limits.hpp"
@@ -189,6 +190,23 @@ class Checker {
     const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues();
     for (int k = 0; k < 3; ++k)
       real(moments[k], kMoment, field + ".inertia (principal moment " + std::to_string(k) + ")");
+    // No mass within the bounding radius R of the centre of mass can have a moment above m R^2
+    // (each particle is at most R from any axis through the centre): a larger one is impossible
+    // for this shape and lets the solver turn it faster than its contacts can hold.
+    const Real radius = bounding_radius(b.shape);
+    const Real most = b.mass * radius * radius;
+    if (moments.maxCoeff() > most * (1 + 1e-9)) {
+      std::string reason = "a principal moment of ";
+      reason += number_text(moments.maxCoeff());
+      reason += " kg m^2 is more than any mass of ";
+      reason += number_text(b.mass);
+      reason += " kg within the shape's bounding radius of ";
+      reason += number_text(radius);
+      reason += " m can have (m R^2 = ";
+      reason += number_text(most);
+      reason += ")";
+      fail(field + ".inertia", reason);
+    }
   }
 
   void interval(const std::optional<Interval>& i, const RealSpec& spec,

@@ -1,6 +1,7 @@
 // The `materials` and `bodies` sections of a scene file (docs/scene-format.md).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "collision/shapes/compound_shape.hpp"
@@ -10,6 +11,8 @@
 
 namespace tumble::scene_yaml {
 namespace {
+
+constexpr std::array<std::string_view, 1> kInertiaKeys{"override"};
 
 constexpr std::array<std::string_view, 4> kMaterialKeys{"friction", "restitution", "stiffness",
                                                         "damping"};
@@ -238,16 +241,65 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
       }
     }
     if (inertia != nullptr) {
-      const Vec3 m = read_vector<3>(*inertia, at("inertia"), "[Ixx, Iyy, Izz]", "kg m^2", kMoment);
+      // [Ixx, Iyy, Izz], checked for plausibility against the shape below, or {override: [...]}
+      // for a mass distribution the file means to be unusual.
+      const Entry* moments = inertia;
+      std::string moments_path = at("inertia");
+      bool override_shape = false;
+      std::optional<Fields> wrapper;
+      if (inertia->value.is_map()) {
+        wrapper.emplace(read_map(inertia->value, inertia->mark(), at("inertia"),
+                                 "[Ixx, Iyy, Izz] or {override: [Ixx, Iyy, Izz]}", false));
+        check_known(*wrapper, kInertiaKeys);
+        moments = wrapper->find("override");
+        if (moments == nullptr)
+          fail(wrapper->mark, child(at("inertia"), "override"),
+               "missing required field 'override' ([Ixx, Iyy, Izz] in kg m^2)");
+        moments_path = child(at("inertia"), "override");
+        override_shape = true;
+      }
+      const Vec3 m = read_vector<3>(*moments, moments_path, "[Ixx, Iyy, Izz]", "kg m^2", kMoment);
       // Principal moments of any real mass distribution obey the triangle inequality; a
       // tensor that does not is unphysical and makes the solver gain energy.
       const Real tol = 1e-9 * m.sum();
       if (m.x() > m.y() + m.z() + tol || m.y() > m.x() + m.z() + tol ||
           m.z() > m.x() + m.y() + tol) {
-        fail(inertia->mark(), at("inertia"),
+        fail(moments->mark(), moments_path,
              "principal moments must satisfy the triangle inequality (each at most the sum of "
              "the other two), got [" +
                  fmt(m.x()) + ", " + fmt(m.y()) + ", " + fmt(m.z()) + "]");
+      }
+      // Plausibility: a hundredth of the shape's own moments (uniform density) would need almost
+      // all the mass at the centre; a 1 kg unit box given 1e-6 kg m^2 turned through its floor.
+      // Files that mean it say so with {override: ...}. The upper limit, m R^2, is physics and
+      // is checked for every scene (engine/scene_check.cpp).
+      const Real radius = bounding_radius(b.shape);
+      if (m.maxCoeff() > b.mass * radius * radius * (1 + 1e-9)) {
+        std::string reason = "a principal moment of ";
+        reason += fmt(m.maxCoeff());
+        reason += " kg m^2 is more than any mass of ";
+        reason += fmt(b.mass);
+        reason += " kg within the shape's bounding radius of ";
+        reason += fmt(radius);
+        reason += " m can have (m R^2 = ";
+        reason += fmt(b.mass * radius * radius);
+        reason += ")";
+        fail(moments->mark(), moments_path, reason);
+      }
+      const Real own = b.mass * unit_inertia(b.shape).trace();
+      if (!override_shape && m.sum() < own / 100) {
+        std::string reason = "principal moments [";
+        reason += fmt(m.x());
+        reason += ", ";
+        reason += fmt(m.y());
+        reason += ", ";
+        reason += fmt(m.z());
+        reason +=
+            "] are less than a hundredth of what this shape of uniform density has (their sum ";
+        reason += fmt(own);
+        reason +=
+            " kg m^2); write inertia: {override: [...]} if the mass is meant to sit at the centre";
+        fail(moments->mark(), moments_path, reason);
       }
       b.inertia = m.asDiagonal();
     } else {

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "scenes/scene_loader.hpp"
+#include "tumble/error.hpp"
 #include "tumble/model.hpp"
 
 namespace tumble {
@@ -125,6 +126,8 @@ constexpr Malformed kCases[] = {
     {"static_with_mass.yaml", 6, "bodies[0].mass", "static bodies have no mass"},
     {"static_with_velocity.yaml", 6, "bodies[0].velocity", "a static body never moves"},
     {"inertia_triangle.yaml", 6, "bodies[0].inertia", "triangle inequality"},
+    {"inertia_implausible.yaml", 7, "bodies[0].inertia", "less than a hundredth"},
+    {"inertia_impossible.yaml", 6, "bodies[0].inertia.override", "more than any mass of 1 kg"},
     {"bool_yes.yaml", 5, "bodies[0].static", "expected true or false, got yes"},
     {"sleeping_not_bool.yaml", 3, "world.sleeping", "expected true or false, got 1"},
     {"zero_sleep_speed.yaml", 4, "world.sleep_speed",
@@ -383,6 +386,30 @@ TEST(SceneErrors, NonScalarKeysAreRejected) {
   const SceneError e = error_of("? [a, b]\n: 1\nbodies: [{shape: {type: plane}, static: true}]\n");
   EXPECT_EQ(e.line, 1);
   EXPECT_NE(e.reason.find("expected a field name"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tumble
+
+namespace tumble {
+namespace {
+
+// inertia: {override: [...]} takes moments the shape of uniform density would not have (here
+// the mass near the centre), and the C++ path refuses what no mass within the shape can have.
+TEST(InertiaChecks, OverrideIsTakenAndTheImpossibleRefusedOnEveryPath) {
+  const auto scene = load_scene_string(
+      "bodies:\n"
+      "  - name: pebble_in_a_box\n"
+      "    shape: {type: box, half_extents: [0.5, 0.5, 0.5]}\n"
+      "    mass: 1\n"
+      "    inertia: {override: [1.0e-5, 1.0e-5, 1.0e-5]}\n",
+      "override.yaml");
+  EXPECT_EQ(scene.bodies[0].inertia, Mat3(Vec3::Constant(1e-5).asDiagonal()));
+  Scene api = scene;
+  api.bodies[0].inertia = Mat3(Vec3::Constant(0.8).asDiagonal());  // above m R^2 = 0.75
+  EXPECT_THROW(check_scene(api), Error);
+  api.bodies[0].inertia = Mat3(Vec3::Constant(0.74).asDiagonal());
+  EXPECT_NO_THROW(check_scene(api));
 }
 
 }  // namespace
