@@ -11,6 +11,7 @@
 #include "collision/closest_point_on_triangle.hpp"
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
+#include "tests/property_scale.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -69,8 +70,11 @@ TEST(SdfGrid, MeshBuildIsExactInTheBandAndSignedEverywhere) {
   const Real chord = 0.5 * (1 - std::cos(std::numbers::pi_v<Real> / 24));
   int band = 0, far = 0;
   Real worst_far = 0;
+  // Every node, or every fourth row under the sanitizers (TUMBLE_PROPERTY_SCALE < 1): the brute
+  // force over 2,304 triangles per node is most of the test's time.
+  const int stride = property_scale() < 1 ? 4 : 1;
   for (int k = 0; k < grid.nodes()[2]; ++k)
-    for (int j = 0; j < grid.nodes()[1]; ++j)
+    for (int j = 0; j < grid.nodes()[1]; j += stride)
       for (int i = 0; i < grid.nodes()[0]; ++i) {
         const Vec3 p = grid.origin() + cell * Vec3(Real(i), Real(j), Real(k));
         const Real value = grid.value(i, j, k);
@@ -90,8 +94,8 @@ TEST(SdfGrid, MeshBuildIsExactInTheBandAndSignedEverywhere) {
           worst_far = std::max(worst_far, std::abs(std::abs(value) - exact));
         }
       }
-  EXPECT_GT(band, 1000);
-  EXPECT_GT(far, 1000);
+  EXPECT_GT(band, 1000 / stride);
+  EXPECT_GT(far, 1000 / stride);
   EXPECT_LT(worst_far, cell) << "largest error beyond the band " << worst_far;
 }
 
