@@ -3,8 +3,12 @@ format (docs/sdf.md, "Neural SDFs"), which tumble.NeuralSdf and `{neural: {file:
 
     PYTHONPATH=build/release/python python3 examples/python/fit_neural_sdf.py \
         --shape torus --out torus_sdf.json
+    PYTHONPATH=build/release/python python3 examples/python/fit_neural_sdf.py \
+        --mesh scenes/sdf/meshes/bowl_closed.obj --cell 0.02 --out bowl_sdf.json
 
-The target is the exact SDF of the shape, evaluated by tumble.Sdf: points are drawn uniformly in
+The target is the SDF of the shape, evaluated by tumble.Sdf: exact for the analytic shapes, and
+for a closed OBJ mesh (--mesh) a grid SDF of it (`{grid: {file, cell}}`, exact within three cells
+of the surface, docs/sdf.md "Grids"): points are drawn uniformly in
 the shape's bounds grown by a margin and, half of them, near the surface (where contacts are
 decided, so where the fit must be best). The loss is the squared error plus an Eikonal term
 (|grad phi| - 1)^2 (Gropp et al., "Implicit geometric regularization", ICML 2020). Prints the
@@ -79,6 +83,9 @@ def export(net, offset, scale, low, high):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--shape", choices=sorted(SHAPES), default="torus")
+    parser.add_argument("--mesh", help="fit a closed OBJ mesh instead of --shape")
+    parser.add_argument("--cell", type=float, default=0.02,
+                        help="the grid's cell for --mesh [m] (default 0.02)")
     parser.add_argument("--out", required=True)
     parser.add_argument("--width", type=int, default=32)
     parser.add_argument("--depth", type=int, default=3)
@@ -88,7 +95,14 @@ def main():
     args = parser.parse_args()
     torch.manual_seed(args.seed)
     rng = np.random.default_rng(args.seed)
-    sdf = tumble.Sdf(SHAPES[args.shape])
+    if args.mesh:
+        import os
+
+        sdf = tumble.Sdf({"grid": {"file": os.path.abspath(args.mesh), "cell": args.cell}})
+        name = os.path.basename(args.mesh)
+    else:
+        sdf = tumble.Sdf(SHAPES[args.shape])
+        name = args.shape
     low = np.asarray(sdf.bounds[0]) - 0.2
     high = np.asarray(sdf.bounds[1]) + 0.2
     offset = (low + high) / 2
@@ -112,7 +126,7 @@ def main():
     error = np.abs(fitted - target)[near]
     with open(args.out, "w") as f:
         json.dump(export(net, offset, scale, low, high), f)
-    print(f"{args.shape}: {sum(p.numel() for p in net.parameters())} weights; error near the "
+    print(f"{name}: {sum(p.numel() for p in net.parameters())} weights; error near the "
           f"surface mean {error.mean():.4f} m, largest {error.max():.4f} m; wrote {args.out}")
 
 

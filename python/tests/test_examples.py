@@ -98,3 +98,22 @@ def test_a_neural_sdf_fitted_by_torch_reads_back_in_tumble(tmp_path):
     exact = np.hypot(np.hypot(points[:, 0], points[:, 1]) - 0.6, points[:, 2]) - 0.2
     assert np.mean(np.abs(phi - exact)) < 1.5 * mean + 0.002, (np.mean(np.abs(phi - exact)), mean)
     assert grad.shape == (4000, 3)
+
+
+def test_a_neural_sdf_fits_a_closed_mesh(tmp_path):
+    try:
+        import torch  # noqa: F401
+    except ImportError:
+        import pytest
+        pytest.skip("PyTorch (python3-torch) is not installed")
+    import tumble
+    mesh = os.path.join(SOURCE_DIR, "scenes", "sdf", "meshes", "bowl_closed.obj")
+    out = tmp_path / "bowl.json"
+    text = run("fit_neural_sdf.py", "--mesh", mesh, "--cell", "0.05", "--out", str(out),
+               "--iterations", "150", "--width", "16", "--depth", "2")
+    mean = float(re.search(r"mean ([0-9.]+) m", text).group(1))
+    assert mean < 0.05, text
+    # The fit reads back and has the bowl's sign: inside the wall, outside in the hollow.
+    net = tumble.NeuralSdf(str(out))
+    assert net.sample([0.65, 0.0, 0.0])[0] < 0
+    assert net.sample([0.0, 0.0, 0.25])[0] > 0
