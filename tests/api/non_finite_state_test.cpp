@@ -1,27 +1,34 @@
 // A step that leaves a state non-finite stops the world with NonFiniteStateError naming the step,
-// the body and where it was, instead of carrying NaN on: here an inertia inside the documented
-// bounds (1e-20 against 1e20, which passes the triangle inequality) whose gyroscopic step
-// overflows.
+// the body and where it was, instead of carrying NaN on. No input the checks accept reaches that
+// any more (the inertia [1e-20, 1e20, 1e20] that once did is now refused: no mass within the
+// shape has a moment above m R^2), so the guard is tested by putting a NaN into a simulation's
+// state, as an engine fault would, and the impossible inertia by its refusal.
 #include <gtest/gtest.h>
 
+#include <limits>
+
+#include "engine/simulation.hpp"
 #include "tests/api/api_scenes.hpp"
 
 namespace tumble {
 namespace {
 
-std::shared_ptr<Scene> needle() {
+std::shared_ptr<Scene> needle(const Vec3& moments) {
   BodyDesc b = dynamic_body("needle", Shape::box(Vec3::Constant(0.5)));
   b.mass = 1;
-  b.inertia = Vec3(1e-20, 1e20, 1e20).asDiagonal();
+  b.inertia = moments.asDiagonal();
   b.position = Vec3(0, 0, 0.6);
   b.angular_velocity = Vec3(1, 2, 3);
   return testing::scene_of({static_body("floor", Shape::plane()), b});
 }
 
 TEST(NonFiniteState, StopsTheWorldNamingStepAndBody) {
-  World world(needle());
+  Simulation sim(needle(Vec3(0.1, 0.12, 0.15)));
+  State faulty = sim.state();
+  faulty.bodies[1].angular_velocity.y() = std::numeric_limits<Real>::quiet_NaN();
+  sim.set_state(faulty);
   try {
-    world.step(10);
+    sim.step();
     FAIL() << "the world stepped on with a non-finite state";
   } catch (const NonFiniteStateError& e) {
     const std::string m = e.what();
@@ -29,9 +36,8 @@ TEST(NonFiniteState, StopsTheWorldNamingStepAndBody) {
     EXPECT_NE(m.find("at the start of the step it was at position (0, 0, 0.6)"), std::string::npos)
         << m;
   }
-  // A batch stops the same way, and says so as a tumble::Error.
-  BatchWorld batch(needle(), 3, 2);
-  EXPECT_THROW(batch.step(), Error);
+  // The inertia that used to overflow is refused before any step, on the API's path too.
+  EXPECT_THROW(World(needle(Vec3(1e-20, 1e20, 1e20))), Error);
 }
 
 TEST(NonFiniteState, AFiniteWorldIsNeverStopped) {

@@ -57,17 +57,21 @@ TEST(SdfYaml, TheDocumentedFormsReadToTheirTrees) {
                             {SdfNode::sphere(1.5), SdfNode::box(Vec3(2, 0.1, 0.1))})})));
 }
 
+// `yaml`, read as the file `source`, is refused with a message holding `where` and `what`.
+void expect_refused(const std::string& yaml, const std::string& source, const std::string& where,
+                    const std::string& what) {
+  try {
+    load_sdf_string(yaml, source);
+    ADD_FAILURE() << "accepted: " << yaml;
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  }
+}
+
 TEST(SdfYaml, MistakesNameTheLineAndField) {
   const auto expect = [](const std::string& yaml, const std::string& where,
-                         const std::string& what) {
-    try {
-      load_sdf_string(yaml, "s.yaml");
-      ADD_FAILURE() << "accepted: " << yaml;
-    } catch (const SceneError& e) {
-      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
-  };
+                         const std::string& what) { expect_refused(yaml, "s.yaml", where, what); };
   expect("{sphere: {radius: -1}}", "field 'sdf.sphere.radius'", "got -1");
   expect("union:\n  - {sphere: {radius: 2e6}}\n  - {plane: {}}\n",
          "s.yaml:2:", "sdf.union[0].sphere.radius");
@@ -106,15 +110,7 @@ TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
   EXPECT_LT(net.distance(Vec3(0.6, 0, 0)), -0.15);
   EXPECT_GT(net.distance(Vec3(0, 0, 0)), 0.3);
   const auto expect = [&](const std::string& yaml, const std::string& where,
-                          const std::string& what) {
-    try {
-      load_sdf_string(yaml, source);
-      ADD_FAILURE() << "accepted: " << yaml;
-    } catch (const SceneError& e) {
-      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
-  };
+                          const std::string& what) { expect_refused(yaml, source, where, what); };
   expect("{grid: {file: meshes/bowl_closed.obj}}", "sdf.grid.cell", "needs 'file'");
   expect("{grid: {file: meshes/bowl_closed.obj, cell: 0}}", "sdf.grid.cell", "got 0");
   expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, interpolation: cubic}}",
