@@ -96,11 +96,12 @@ TEST(SdfYaml, MistakesNameTheLineAndField) {
 TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
   const std::string source = std::string(TUMBLE_SOURCE_DIR) + "/scenes/sdf/here.yaml";
   const SdfTree grid(load_sdf_string(
-      "{grid: {file: meshes/bowl_closed.obj, cell: 0.05, interpolation: trilinear}}", source));
-  // The bowl's solid: inside the box's walls, outside in the carved sphere.
-  EXPECT_LT(grid.distance(Vec3(0.65, 0, 0)), 0);
-  EXPECT_GT(grid.distance(Vec3(0, 0, 0.2)), 0);
-  EXPECT_NEAR(grid.distance(Vec3(0, 0, 0.2)), 0.6 - 0.3, 0.05);
+      "{grid: {file: ../../tests/data/sdf/cube.obj, cell: 0.05, interpolation: trilinear}}",
+      source));
+  // The unit cube: at grid nodes within the exact band (three cells of a face), 0.1 m in and out.
+  EXPECT_NEAR(grid.distance(Vec3(0.4, 0, 0)), -0.1, 1e-9);
+  EXPECT_NEAR(grid.distance(Vec3(0, 0.6, 0)), 0.1, 1e-9);
+  EXPECT_LT(grid.distance(Vec3(0, 0, 0)), -0.4);  // the centre, swept from the band
   const SdfTree net(
       load_sdf_string("{neural: {file: ../../tests/data/neural/torus_sdf.json}}", source));
   // The committed fit: a torus of ring 0.6 m and tube 0.2 m, trained near its surface
