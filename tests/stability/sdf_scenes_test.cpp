@@ -144,9 +144,11 @@ TEST(SdfScenes, FiftyBodiesPouredIntoAGridBowlStayInIt) {
   // radius 0.6 m centred 0.8 m up, cut out of a box 1.4 m wide and 0.6 m tall. 50 bodies of five
   // kinds are dropped into it from 0.75-1 m. Every body must end inside the bowl (its centre
   // within the sphere and above its lowest point), at rest, with no energy from nowhere. The
-  // sanitizer run (TUMBLE_PROPERTY_SCALE < 1) checks the first second only.
+  // sanitizer run (TUMBLE_PROPERTY_SCALE < 1) steps the first quarter second only (the bodies
+  // reach the bowl at about 0.3 s): there it checks the grid's build and the first steps'
+  // memory, not the pile.
   World world(sdf_scene("pour_into_grid_bowl.yaml"));
-  const Real seconds = property_scale() < 1 ? 1.0 : 4.0;
+  const Real seconds = property_scale() < 1 ? 0.25 : 4.0;
   const int steps = int(std::lround(seconds / world.scene().world.dt));
   const Vec3 centre(0, 0, 0.8);
   std::vector<BodyId> bodies;
@@ -181,7 +183,11 @@ namespace tumble {
 namespace {
 
 TEST(SdfScenes, NutThreadsOntoTheBoltAndRestsOnItsHead) {
-  // Field against field only: the nut's hole around the shaft, its face on the head.
+  // Field against field only: the nut's hole around the shaft, its face on the head. The
+  // sanitizer run leaves it to SdfContact.TwoFieldSpheresHaveTheExactDepth, which runs the same
+  // field-against-field code in a fraction of the time (this took 48 s there).
+  if (property_scale() < 1)
+    GTEST_SKIP() << "field-against-field contacts are checked by SdfContact under the sanitizers";
   World world(sdf_scene("nut_on_bolt.yaml"));
   const BodyId nut = world.body("nut");
   world.step(240);  // 1 s: it has fallen 0.52 m down the shaft and stopped
