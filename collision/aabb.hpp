@@ -28,6 +28,13 @@ struct Aabb {
     max = max.cwiseMax(o.max);
   }
   Aabb inflated(Real margin) const { return {min.array() - margin, max.array() + margin}; }
+  // The box holding this (finite) box carried by `pose`: its centre carried, its half extents
+  // spread by the absolute rotation matrix (the box of its eight corners, without the corners).
+  Aabb placed(const Transform& pose) const {
+    const Vec3 centre = pose.apply((min + max) / 2);
+    const Vec3 extent = pose.rotation.toRotationMatrix().cwiseAbs() * ((max - min) / 2);
+    return {centre - extent, centre + extent};
+  }
 };
 
 }  // namespace tumble

@@ -24,8 +24,7 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
                                    Real max_distance) {
   const TriangleMesh& mesh = *mesh_shape.mesh;
   // The convex shape in the mesh's frame, for the BVH query.
-  const Transform in_mesh{pose_m.apply_inverse(pose_c.translation),
-                          pose_m.rotation.conjugate() * pose_c.rotation};
+  const Transform in_mesh = pose_m.relative(pose_c);
   const Aabb reach = world_aabb(convex, in_mesh).inflated(std::max(max_distance, Real(0)));
   const ConvexSupport shape_support = ConvexSupport::of(convex, {Vec3::Zero(), pose_c.rotation});
   // The normal found is the nearest triangle's, not a separating axis of the mesh:

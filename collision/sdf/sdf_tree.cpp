@@ -119,14 +119,7 @@ Aabb placed_bounds(const Aabb& local, const Transform& pose) {
     const Real inf = std::numeric_limits<Real>::infinity();
     return {Vec3::Constant(-inf), Vec3::Constant(inf)};
   }
-  Aabb out;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3 corner((c & 1) ? local.max.x() : local.min.x(),
-                      (c & 2) ? local.max.y() : local.min.y(),
-                      (c & 4) ? local.max.z() : local.min.z());
-    out.grow(pose.apply(corner));
-  }
-  return out;
+  return local.placed(pose);
 }
 
 }  // namespace

@@ -27,12 +27,7 @@ Vec3 support(const Shape& s, const Vec3& d) {
 }
 
 Aabb world_aabb(const Shape& s, const Transform& pose) {
-  const Aabb& local = s.sdf->local_bounds();
-  const Mat3 r = pose.rotation.toRotationMatrix();
-  const Vec3 centre = pose.apply((local.min + local.max) / 2);
-  const Vec3 half = (local.max - local.min) / 2;
-  const Vec3 extent = r.cwiseAbs() * half;
-  return {centre - extent, centre + extent};
+  return s.sdf->local_bounds().placed(pose);
 }
 
 Real volume(const Shape& s) {

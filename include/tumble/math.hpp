@@ -23,6 +23,12 @@ struct Transform {
   Vec3 apply_inverse(const Vec3& p) const { return rotation.conjugate() * (p - translation); }
   Vec3 rotate(const Vec3& v) const { return rotation * v; }
   Vec3 rotate_inverse(const Vec3& v) const { return rotation.conjugate() * v; }
+  // The transform undone: inverse().apply(apply(p)) is p.
+  Transform inverse() const { return {rotate_inverse(-translation), rotation.conjugate()}; }
+  // `pose` seen from this frame (a body's pose in another body's frame): inverse() then pose.
+  Transform relative(const Transform& pose) const {
+    return {rotate_inverse(pose.translation - translation), rotation.conjugate() * pose.rotation};
+  }
 };
 
 }  // namespace tumble

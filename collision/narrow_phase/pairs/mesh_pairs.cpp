@@ -37,8 +37,7 @@ int convex_mesh(const Shape& a, const Transform& pose_a, const Shape& b, const T
   // convex shape's frame, for the triangles.
   const Quat mesh_to_convex = pose_a.rotation.conjugate() * pose_b.rotation;
   const Vec3 mesh_origin_in_convex = pose_a.rotate_inverse(pose_b.translation - pose_a.translation);
-  const Transform convex_in_mesh{pose_b.rotate_inverse(pose_a.translation - pose_b.translation),
-                                 pose_b.rotation.conjugate() * pose_a.rotation};
+  const Transform convex_in_mesh = pose_b.relative(pose_a);
   const Aabb query = world_aabb(a, convex_in_mesh).inflated(margin);
   const Mat3 rotation = mesh_to_convex.toRotationMatrix();
 

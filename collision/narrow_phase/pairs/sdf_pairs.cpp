@@ -241,17 +241,7 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
   };
   std::array<Raw, kRegions> deepest;
   const SdfShape& field = *surface.field;
-  const Aabb local = [&] {
-    // The box in the field's own frame, for the bucket query.
-    Aabb out;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 c((corner & 1) ? box.max.x() : box.min.x(),
-                   (corner & 2) ? box.max.y() : box.min.y(),
-                   (corner & 4) ? box.max.z() : box.min.z());
-      out.grow(surface.pose.apply_inverse(c));
-    }
-    return out;
-  }();
+  const Aabb local = box.placed(surface.pose.inverse());  // in the field's frame, for the buckets
   const Real region_size = field.bounding_radius() / 4;
   const Vec3& origin = field.local_bounds().min;
   // Buckets of points farther from the partner than their ball's radius plus the margin are
@@ -353,14 +343,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
                      Manifold& out) {
   const TriangleMesh& mesh = *a.mesh;
   const Aabb b_box = field.local_bounds().inflated(margin);
-  // B's box in the mesh's frame, for the mesh's tree.
-  Aabb query;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 c((corner & 1) ? b_box.max.x() : b_box.min.x(),
-                 (corner & 2) ? b_box.max.y() : b_box.min.y(),
-                 (corner & 4) ? b_box.max.z() : b_box.min.z());
-    query.grow(pose_a.apply_inverse(c));
-  }
+  const Aabb query = b_box.placed(pose_a.inverse());  // B's box in the mesh's frame
   ContactCollector collector;
   const Surface surface{&field, Transform{}};
   const Real spacing = field.cell_size();
@@ -422,8 +405,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
 int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out) {
   // Into B's frame, and the answer back out.
-  const Transform a_in_b{pose_b.rotate_inverse(pose_a.translation - pose_b.translation),
-                         pose_b.rotation.conjugate() * pose_a.rotation};
+  const Transform a_in_b = pose_b.relative(pose_a);
   const int count = a.type == ShapeType::mesh ? mesh_against_sdf(a, a_in_b, *b.sdf, margin, out)
                                               : convex_against_sdf(a, a_in_b, *b.sdf, margin, out);
   out.normal = pose_b.rotate(out.normal);
@@ -434,20 +416,13 @@ int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 
 int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out) {
-  const Transform a_in_b{pose_b.rotate_inverse(pose_a.translation - pose_b.translation),
-                         pose_b.rotation.conjugate() * pose_a.rotation};
+  const Transform a_in_b = pose_b.relative(pose_a);
   const SdfShape& fa = *a.sdf;
   const SdfShape& fb = *b.sdf;
   const Surface surface_a{&fa, a_in_b};
   const Surface surface_b{&fb, Transform{}};
   // Where the two boxes overlap: only there can either surface be inside the other.
-  Aabb a_box;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Aabb& l = fa.local_bounds();
-    a_box.grow(a_in_b.apply(Vec3((corner & 1) ? l.max.x() : l.min.x(),
-                                 (corner & 2) ? l.max.y() : l.min.y(),
-                                 (corner & 4) ? l.max.z() : l.min.z())));
-  }
+  const Aabb a_box = fa.local_bounds().placed(a_in_b);
   const Aabb b_box = fb.local_bounds();
   Aabb overlap{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)};
   overlap = overlap.inflated(margin);
