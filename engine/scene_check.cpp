@@ -190,23 +190,12 @@ class Checker {
     const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues();
     for (int k = 0; k < 3; ++k)
       real(moments[k], kMoment, field + ".inertia (principal moment " + std::to_string(k) + ")");
-    // No mass within the bounding radius R of the centre of mass can have a moment above m R^2
-    // (each particle is at most R from any axis through the centre): a larger one is impossible
-    // for this shape and lets the solver turn it faster than its contacts can hold.
-    const Real radius = bounding_radius(b.shape);
-    const Real most = b.mass * radius * radius;
-    if (moments.maxCoeff() > most * (1 + 1e-9)) {
-      std::string reason = "a principal moment of ";
-      reason += number_text(moments.maxCoeff());
-      reason += " kg m^2 is more than any mass of ";
-      reason += number_text(b.mass);
-      reason += " kg within the shape's bounding radius of ";
-      reason += number_text(radius);
-      reason += " m can have (m R^2 = ";
-      reason += number_text(most);
-      reason += ")";
-      fail(field + ".inertia", reason);
-    }
+    // A moment no mass within the shape can have lets the solver turn the body faster than its
+    // contacts can hold.
+    const std::string impossible =
+        impossible_moment(b.mass, moments.maxCoeff(), bounding_radius(b.shape));
+    if (!impossible.empty())
+      fail(field + ".inertia", impossible);
   }
 
   void interval(const std::optional<Interval>& i, const RealSpec& spec,
@@ -273,6 +262,22 @@ class Checker {
 };
 
 }  // namespace
+
+std::string impossible_moment(Real mass, Real largest_moment, Real radius) {
+  const Real most = mass * radius * radius;
+  if (largest_moment <= most * (1 + 1e-9))
+    return {};
+  std::string reason = "a principal moment of ";
+  reason += number_text(largest_moment);
+  reason += " kg m^2 is more than any mass of ";
+  reason += number_text(mass);
+  reason += " kg within the shape's bounding radius of ";
+  reason += number_text(radius);
+  reason += " m can have (m R^2 = ";
+  reason += number_text(most);
+  reason += ")";
+  return reason;
+}
 
 void check_scene(const Scene& scene) {
   Checker(scene).scene();

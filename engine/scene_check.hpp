@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include "tumble/model.hpp"
 
@@ -10,5 +11,11 @@ namespace tumble {
 
 // Throws SceneError naming the field "bodies[slot]...." as check_scene would.
 void check_body(const Scene& scene, const BodyDesc& body, std::size_t slot);
+
+// Why a principal moment is impossible for a body of `mass` within a bounding radius `radius` of
+// its centre of mass (no particle is farther than R from an axis through the centre, so no
+// moment exceeds m R^2), or empty when it is possible. check_scene refuses such a body; the scene
+// loader asks first, to name the line.
+std::string impossible_moment(Real mass, Real largest_moment, Real radius);
 
 }  // namespace tumble

@@ -7,6 +7,7 @@
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape.hpp"
+#include "engine/scene_check.hpp"
 #include "scenes/yaml_reader.hpp"
 
 namespace tumble::scene_yaml {
@@ -273,19 +274,10 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
       // all the mass at the centre; a 1 kg unit box given 1e-6 kg m^2 turned through its floor.
       // Files that mean it say so with {override: ...}. The upper limit, m R^2, is physics and
       // is checked for every scene (engine/scene_check.cpp).
-      const Real radius = bounding_radius(b.shape);
-      if (m.maxCoeff() > b.mass * radius * radius * (1 + 1e-9)) {
-        std::string reason = "a principal moment of ";
-        reason += fmt(m.maxCoeff());
-        reason += " kg m^2 is more than any mass of ";
-        reason += fmt(b.mass);
-        reason += " kg within the shape's bounding radius of ";
-        reason += fmt(radius);
-        reason += " m can have (m R^2 = ";
-        reason += fmt(b.mass * radius * radius);
-        reason += ")";
-        fail(moments->mark(), moments_path, reason);
-      }
+      const std::string impossible =
+          impossible_moment(b.mass, m.maxCoeff(), bounding_radius(b.shape));
+      if (!impossible.empty())
+        fail(moments->mark(), moments_path, impossible);
       const Real own = b.mass * unit_inertia(b.shape).trace();
       if (!override_shape && m.sum() < own / 100) {
         std::string reason = "principal moments [";

@@ -36,10 +36,7 @@ class SdfShape {
   explicit SdfShape(const SdfNode& root);
 
   // The field in the local frame (centre of mass at the origin).
-  sdf::Sample sample(const Vec3& p) const {
-    sdf::Sample s = tree_.sample(p + tree_origin_);
-    return s;
-  }
+  sdf::Sample sample(const Vec3& p) const { return tree_.sample(p + tree_origin_); }
   Real distance(const Vec3& p) const { return tree_.distance(p + tree_origin_); }
 
   // Where the tree's origin is in the local frame: tree point = local point + centre_in_tree().
