@@ -9,6 +9,7 @@
 #include <unordered_set>
 
 #include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "engine/number_text.hpp"
 #include "engine/scene_check.hpp"
@@ -177,6 +178,11 @@ class Checker {
       fail(field + ".static", std::string("a ") +
                                   (b.shape.type == ShapeType::plane ? "plane" : "mesh") +
                                   " can only be static; set is_static");
+    if (b.shape.type == ShapeType::sdf && b.shape.sdf && b.shape.sdf->changes_with_time() &&
+        !b.is_static && !b.kinematic)
+      fail(field + ".shape",
+           "a field that changes with time (a morph) is an obstacle: its body must be static or "
+           "kinematic");
     if (b.is_static || b.kinematic)
       return;
     real(b.mass, kMass, field + ".mass");

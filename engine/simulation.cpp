@@ -15,6 +15,7 @@
 #include "collision/narrow_phase/narrow_phase.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/narrow_phase/sphere_batch.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "engine/broad_phase_choice.hpp"
 #include "engine/number_text.hpp"
 #include "tumble/error.hpp"
@@ -118,9 +119,12 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
   kinematic_target_.resize(n);
   has_target_.resize(n, 0);
   kinematic_bodies_.clear();
+  field_changes_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (model_->is_kinematic(i))
       kinematic_bodies_.push_back(static_cast<std::int32_t>(i));
+    const Shape& shape = scene_->bodies[i].shape;
+    field_changes_[i] = shape.type == ShapeType::sdf && shape.sdf->changes_with_time();
   }
   kinematic_start_.resize(kinematic_bodies_.size());
   initial_state_ = initial_state(*scene_);
@@ -494,13 +498,14 @@ void Simulation::wake_touched_islands() {
     if (!model.is_fixed(i) && state_.asleep[i] == 0)
       island_awake_[islands_.root(static_cast<std::int32_t>(i))] = 1;
   }
-  // A moving kinematic body wakes what it touches.
+  // A moving kinematic body, or a field changing with time this step, wakes what it touches.
   for (const PairContact& pc : contacts_) {
     for (const auto& [k, other] :
          {std::pair{pc.body_a, pc.body_b}, std::pair{pc.body_b, pc.body_a}}) {
       const BodyState& kb = state_.bodies[std::size_t(k)];
-      if (model.is_kinematic(std::size_t(k)) && !model.is_fixed(std::size_t(other)) &&
-          (kb.velocity.squaredNorm() > 0 || kb.angular_velocity.squaredNorm() > 0))
+      const bool moving = model.is_kinematic(std::size_t(k)) &&
+                          (kb.velocity.squaredNorm() > 0 || kb.angular_velocity.squaredNorm() > 0);
+      if ((moving || field_changing_now(k)) && !model.is_fixed(std::size_t(other)))
         island_awake_[islands_.root(other)] = 1;
     }
   }
@@ -821,7 +826,8 @@ void Simulation::collide_candidate_pairs() {
                     shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
                     candidate_gjk_[i]);
           } else {
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
+            Shape timed_a, timed_b;
+            collide(shape_now(pair.a, timed_a), shape_poses_[pair.a], shape_now(pair.b, timed_b),
                     shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
           }
         }
@@ -1237,6 +1243,27 @@ void Simulation::contact_forces(std::span<Real> xyz, std::span<std::int32_t> cou
   }
 }
 
+// A body's shape as the narrow phase and ray casts see it now: its own, or for a field that
+// changes with time a copy (shared data: a few reference counts, no allocation) evaluated at the
+// world's time.
+const Shape& Simulation::shape_now(std::int32_t body, Shape& storage) const {
+  const Shape& shape = scene_->bodies[std::size_t(body)].shape;
+  if (field_changes_[std::size_t(body)] == 0)
+    return shape;
+  storage = shape;
+  storage.field_time = state_.time;
+  return storage;
+}
+
+// Whether body k's field changes between this step's start and end.
+bool Simulation::field_changing_now(std::int32_t k) const {
+  if (field_changes_[std::size_t(k)] == 0)
+    return false;
+  const SdfShape& field = *scene_->bodies[std::size_t(k)].shape.sdf;
+  return state_.time + scene_->world.dt > field.changes_from() &&
+         state_.time < field.changes_until();
+}
+
 Simulation::RayResult Simulation::ray_cast(const Vec3& origin, const Vec3& direction,
                                            Real max_distance) {
   if (bounds_stale_) {
@@ -1257,8 +1284,9 @@ Simulation::RayResult Simulation::ray_cast(const Vec3& origin, const Vec3& direc
   const Vec3 delta = direction * max_distance;
   for (const std::int32_t id : candidates) {
     const std::size_t i = std::size_t(id);
+    Shape timed;
     const ShapeRayHit hit =
-        tumble::ray_cast(scene_->bodies[i].shape, pose_of(state_.bodies[i]), origin, delta);
+        tumble::ray_cast(shape_now(id, timed), pose_of(state_.bodies[i]), origin, delta);
     if (!hit.hit)
       continue;
     const Real distance = hit.fraction * max_distance;

@@ -132,6 +132,8 @@ class Simulation {
   static constexpr Real kRecycleAngle = Real(2e-3);
 
  private:
+  const Shape& shape_now(std::int32_t body, Shape& storage) const;
+  bool field_changing_now(std::int32_t body) const;
   void update_bounds(Real dt);
   void find_candidate_pairs();
   void collide_candidate_pairs();
@@ -181,6 +183,7 @@ class Simulation {
   std::vector<Transform> kinematic_start_;
   std::vector<Transform> kinematic_target_;
   std::vector<std::uint8_t> has_target_;
+  std::vector<std::uint8_t> field_changes_;  // per body: its shape is a field changing with time
   // The broad phase's boxes are those of the start of the last step, not the current poses.
   bool bounds_stale_ = false;
   std::vector<std::int32_t> query_scratch_;

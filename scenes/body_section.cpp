@@ -6,6 +6,7 @@
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "engine/scene_check.hpp"
 #include "scenes/yaml_reader.hpp"
@@ -162,6 +163,11 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
     fail(where, at("static"),
          "a plane is infinite, so it has no finite mass and must be static; add 'static: true'");
   }
+  if (b.shape.type == ShapeType::sdf && b.shape.sdf->changes_with_time() && !b.is_static &&
+      !b.kinematic)
+    fail(shape->mark(), at("shape"),
+         "a field that changes with time (a morph) is an obstacle: its body must be static or "
+         "kinematic (its mass would change with it); add 'static: true' or 'kinematic: true'");
   if (b.shape.type == ShapeType::mesh && !b.is_static) {
     const YAML::Mark where = is_static != nullptr ? is_static->mark() : shape->mark();
     fail(where, at("static"),

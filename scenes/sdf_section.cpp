@@ -13,17 +13,23 @@ namespace tumble {
 namespace scene_yaml {
 namespace {
 
-constexpr std::array<std::string_view, 12> kSdfKinds{
-    "sphere", "box",    "capsule", "cylinder",     "torus",      "plane",
-    "grid",   "neural", "union",   "intersection", "difference", "smooth_union"};
-constexpr std::array<std::string_view, 3> kGridKeys{"file", "cell", "interpolation"};
+constexpr std::array<std::string_view, 13> kSdfKinds{
+    "sphere", "box",   "capsule",      "cylinder",   "torus",        "plane", "grid",
+    "neural", "union", "intersection", "difference", "smooth_union", "morph"};
+constexpr std::array<std::string_view, 5> kGridKeys{"file", "cell", "interpolation", "builder",
+                                                    "band"};
 constexpr std::array<std::string_view, 1> kNeuralKeys{"file"};
 constexpr RealSpec kCell{"a cell size in metres", "1e-6 to 1e3", 1e-6, 1e3};
+constexpr RealSpec kBandVoxels{"a band width in voxels", "1 to 64", 1, 64};
 constexpr std::array<std::string_view, 1> kRadiusKeys{"radius"};
 constexpr std::array<std::string_view, 1> kHalfExtentsKeys{"half_extents"};
 constexpr std::array<std::string_view, 2> kRadiusLengthKeys{"radius", "half_length"};
 constexpr std::array<std::string_view, 2> kTorusKeys{"major_radius", "minor_radius"};
 constexpr std::array<std::string_view, 2> kSmoothKeys{"k", "of"};
+constexpr std::array<std::string_view, 4> kMorphKeys{"from", "to", "start", "duration"};
+constexpr RealSpec kMorphStart{"a time in seconds", "-1e9 to 1e9", -1e9, 1e9};
+constexpr RealSpec kMorphDuration{"a duration in seconds", "greater than 0, at most 1e9", 0, 1e9,
+                                  true};
 // SdfTree's own limits (collision/sdf/sdf_tree.hpp: kMaxSize), read here so that a size beyond
 // them is blamed on its line.
 constexpr RealSpec kSdfSize{"a positive number in metres", "1e-9 to 1e6", kMinSize,
@@ -40,7 +46,8 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
     fail(mark, path, "SDF nodes nested deeper than " + std::to_string(SdfTree::kMaxDepth));
   const Fields f = read_map(node, mark, path,
                             "an SDF node: a map with one of sphere, box, capsule, cylinder, torus, "
-                            "plane, grid, neural, union, intersection, difference, smooth_union",
+                            "plane, grid, neural, union, intersection, difference, smooth_union, "
+                            "morph",
                             false);
   const Entry* kind = nullptr;
   for (const Entry& e : f.entries) {
@@ -60,7 +67,7 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
   if (kind == nullptr)
     fail(f.mark, path,
          "an SDF node needs a kind: one of sphere, box, capsule, cylinder, torus, plane, grid, "
-         "neural, union, intersection, difference, smooth_union");
+         "neural, union, intersection, difference, smooth_union, morph");
   const std::string here = child(path, kind->key);
   SdfNode n;
   const auto require = [&](const Fields& params, std::string_view key) -> const Entry& {
@@ -93,6 +100,22 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
     const Real sharpness = read_real(require(params, "k"), child(here, "k"), kSharpness);
     n = SdfNode::combine(SdfKind::smooth_union_of,
                          operands(require(params, "of"), child(here, "of")), sharpness);
+  } else if (k == "morph") {
+    // {morph: {from: NODE, to: NODE, start: 0, duration: 2}}: a field changing from one solid
+    // to another (collision/sdf/sdf_tree.hpp).
+    const Fields params =
+        read_map(kind->value, kind->mark(), here, "{from: node, to: node, start, duration}", false);
+    check_known(params, kMorphKeys);
+    const Entry& from = require(params, "from");
+    const Entry& to = require(params, "to");
+    const Real start = params.find("start") != nullptr
+                           ? read_real(*params.find("start"), child(here, "start"), kMorphStart)
+                           : Real(0);
+    const Real duration =
+        read_real(require(params, "duration"), child(here, "duration"), kMorphDuration);
+    n = SdfNode::morph(load_sdf_node(from.value, from.mark(), child(here, "from"), depth + 1),
+                       load_sdf_node(to.value, to.mark(), child(here, "to"), depth + 1), start,
+                       duration);
   } else {
     const Fields params = read_map(kind->value, kind->mark(), here, "the primitive's sizes", true);
     if (k == "sphere") {
@@ -150,17 +173,18 @@ std::filesystem::path Loader::relative_to_scene(const std::string& name) const {
   return path;
 }
 
-// {grid: {file: mesh.obj, cell: 0.01, interpolation: tricubic}}: a grid SDF of a closed OBJ
-// mesh (collision/sdf/sdf_grid.hpp), the file relative to the scene's folder.
+// {grid: {file: mesh.obj, cell: 0.01, interpolation: tricubic, builder: tumble | openvdb,
+// band: 3}}: a grid SDF of a closed OBJ mesh, tumble's dense grid (collision/sdf/sdf_grid.hpp) or
+// OpenVDB's narrow-band level set (collision/sdf/vdb_level_set.hpp); {grid: {file: part.vdb}}: a
+// level set read from an OpenVDB file. Files are relative to the scene's folder.
 SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) const {
   check_known(params, kGridKeys);
   const Entry* file = params.find("file");
-  const Entry* cell = params.find("cell");
-  if (file == nullptr || cell == nullptr)
-    fail(params.mark, child(here, file == nullptr ? "file" : "cell"),
-         "a grid needs 'file' (a closed OBJ mesh) and 'cell' (the cell size in metres)");
-  const std::string name = read_name(*file, child(here, "file"), "an OBJ file name");
-  const Real size = read_real(*cell, child(here, "cell"), kCell);
+  if (file == nullptr)
+    fail(params.mark, child(here, "file"),
+         "a grid needs 'file' (a closed OBJ mesh, with 'cell', or an OpenVDB .vdb file)");
+  const std::string name = read_name(*file, child(here, "file"), "an OBJ or .vdb file name");
+  const bool vdb_file = std::filesystem::path(name).extension() == ".vdb";
   GridInterpolation how = GridInterpolation::tricubic;
   if (const Entry* x = params.find("interpolation")) {
     const std::string word = read_word(*x, child(here, "interpolation"), "an interpolation");
@@ -170,12 +194,41 @@ SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) con
       fail(x->mark(), child(here, "interpolation"),
            "expected tricubic or trilinear, got '" + word + "'");
   }
-  if (std::filesystem::path(name).extension() == ".vdb")
+  bool openvdb = vdb_file;
+  if (const Entry* x = params.find("builder")) {
+    const std::string word = read_word(*x, child(here, "builder"), "a builder");
+    if (word != "tumble" && word != "openvdb")
+      fail(x->mark(), child(here, "builder"), "expected tumble or openvdb, got '" + word + "'");
+    if (vdb_file)
+      fail(x->mark(), child(here, "builder"),
+           "a .vdb file is read as it is; 'builder' is for grids built from an OBJ mesh");
+    openvdb = word == "openvdb";
+  }
+  const Entry* cell = params.find("cell");
+  if (vdb_file && cell != nullptr)
+    fail(cell->mark(), child(here, "cell"),
+         "a .vdb file carries its own voxel size; leave 'cell' out");
+  if (!vdb_file && cell == nullptr)
+    fail(params.mark, child(here, "cell"),
+         "a grid built from a mesh needs 'cell' (the cell size in metres)");
+  const Entry* band = params.find("band");
+  if (band != nullptr && (vdb_file || !openvdb))
+    fail(band->mark(), child(here, "band"),
+         "'band' (voxels each side of the surface) is for grids built with builder: openvdb");
+  const Real band_voxels = band != nullptr ? read_real(*band, child(here, "band"), kBandVoxels) : 3;
+  if (openvdb && !VdbLevelSet::available())
     fail(file->mark(), child(here, "file"),
-         "OpenVDB volumes (.vdb) need a build with OpenVDB, which this one does not have; give "
-         "a closed OBJ mesh instead");
+         std::string(vdb_file ? "OpenVDB volumes (.vdb)" : "builder: openvdb") +
+             " needs a build with OpenVDB, which this one does not have; give a closed OBJ "
+             "mesh with builder: tumble instead");
+  const Real size = vdb_file ? 0 : read_real(*cell, child(here, "cell"), kCell);
   try {
+    if (vdb_file)
+      return SdfNode::from_level_set(VdbLevelSet::load(relative_to_scene(name)), how);
     const ObjMesh mesh = read_obj_file(relative_to_scene(name));
+    if (openvdb)
+      return SdfNode::from_level_set(
+          VdbLevelSet::from_mesh(mesh.vertices, mesh.triangles, size, band_voxels), how);
     return SdfNode::from_grid(
         std::make_shared<const SdfGrid>(SdfGrid::from_mesh(mesh.vertices, mesh.triangles, size)),
         how);

@@ -17,13 +17,16 @@ def main():
     source, out = sys.argv[1], sys.argv[2]
     rows = list(csv.DictReader(open(source)))
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = {"analytic": "-", "mesh": "--"}
-    for origin in ("analytic", "mesh"):
+    styles = {"analytic": "-", "mesh": "--", "openvdb": ":"}
+    names = {"analytic": "analytic grid", "mesh": "mesh grid", "openvdb": "OpenVDB level set"}
+    for origin in ("analytic", "mesh", "openvdb"):
         picked = [r for r in rows if r["source"] == origin]
+        if not picked:
+            continue
         cells = [float(r["cell"]) for r in picked]
         for how, marker in (("trilinear", "o"), ("tricubic", "s")):
             ax.loglog(cells, [float(r[how + "_mean"]) for r in picked], styles[origin],
-                      marker=marker, label="%s grid, %s, mean" % (origin, how))
+                      marker=marker, label="%s, %s, mean" % (names[origin], how))
     ax.set_xlabel("cell size [m]")
     ax.set_ylabel("|grid - exact| within 5 cm of the surface [m]")
     ax.set_title("Grid SDF of a torus (0.4, 0.15): error against cell size")

@@ -22,6 +22,8 @@ packages=(
   libmujoco-dev
   # sweeps, reports and RL batches over MPI ranks (apps/mpi_work_pool.cpp, docs/scale-out.md)
   openmpi-bin libopenmpi-dev python3-mpi4py
+  # OpenVDB level sets as SDF shapes (collision/sdf/vdb_level_set.hpp; optional in the build)
+  libopenvdb-dev
   # the PyTorch example around tumble.distance (examples/python/torch_distance.py)
   python3-torch
 )

@@ -42,9 +42,9 @@ void check(const Shape& s, const Transform& pose, const char* side) {
 // grad phi in the world and c the core point; exact wherever phi is differentiable and its least
 // point on the core unique.
 ShapeDistance round_and_field(const Shape& a, const Transform& pose_a, const SdfShape& field,
-                              const Transform& pose_b) {
+                              Real time, const Transform& pose_b) {
   const auto phi_at = [&](const Vec3& world) {
-    sdf::Sample s = field.sample(pose_b.apply_inverse(world));
+    sdf::Sample s = field.sample(pose_b.apply_inverse(world), time);
     s.gradient = pose_b.rotate(s.gradient);
     return s;
   };
@@ -55,7 +55,7 @@ ShapeDistance round_and_field(const Shape& a, const Transform& pose_a, const Sdf
     // them nearly as deep), the lowest result kept.
     const Vec3 axis = pose_a.rotate(Vec3::UnitZ()) * a.half_length;
     const auto at = [&](Real t) { return Vec3(pose_a.translation + t * axis); };
-    const auto phi_of = [&](Real t) { return field.distance(pose_b.apply_inverse(at(t))); };
+    const auto phi_of = [&](Real t) { return field.distance(pose_b.apply_inverse(at(t)), time); };
     constexpr int kSamples = 33;
     std::array<Real, kSamples> samples;
     for (int i = 0; i < kSamples; ++i)
@@ -108,6 +108,11 @@ ShapeDistance round_and_field(const Shape& a, const Transform& pose_a, const Sdf
     core = at(best_t);
   }
   const sdf::Sample s = phi_at(core);
+  if (!(std::abs(s.distance) < field.reach()))
+    throw Error("distance_between: the " + std::string(shape_type_name(a.type)) +
+                "'s core is beyond the field's narrow band (values are distances only within " +
+                std::to_string(field.reach()) +
+                " m of its surface); widen the level set's band (docs/sdf.md)");
   ShapeDistance d;
   const Real g2 = s.gradient.squaredNorm();
   d.normal = g2 > 0 ? Vec3(s.gradient / std::sqrt(g2)) : Vec3::UnitZ();
@@ -227,8 +232,8 @@ ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Sh
       throw Error("distance_between: a field against a " +
                   std::string(shape_type_name(round.type)) +
                   "; only spheres and capsules are measured against a field (docs/sdf.md)");
-    ShapeDistance d = field_is_b ? round_and_field(a, pose_a, *b.sdf, pose_b)
-                                 : round_and_field(b, pose_b, *a.sdf, pose_a);
+    ShapeDistance d = field_is_b ? round_and_field(a, pose_a, *b.sdf, b.field_time, pose_b)
+                                 : round_and_field(b, pose_b, *a.sdf, a.field_time, pose_a);
     if (!field_is_b) {
       std::swap(d.point_a, d.point_b);
       std::swap(d.gradient_a, d.gradient_b);

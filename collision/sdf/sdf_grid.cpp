@@ -8,6 +8,7 @@
 #include <string>
 
 #include "collision/closest_point_on_triangle.hpp"
+#include "collision/sdf/closed_mesh.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -34,20 +35,6 @@ Real eikonal_update(Real a, Real b, Real c, Real h) {
   return (s + std::sqrt(s * s - 3 * (a * a + b * b + c * c - h * h))) / 3;
 }
 
-// Catmull-Rom weights of the four nodes around a point at fraction t of its cell, and their
-// derivatives in t.
-void catmull_rom(Real t, Real w[4], Real dw[4]) {
-  const Real t2 = t * t, t3 = t2 * t;
-  w[0] = (-t3 + 2 * t2 - t) / 2;
-  w[1] = (3 * t3 - 5 * t2 + 2) / 2;
-  w[2] = (-3 * t3 + 4 * t2 + t) / 2;
-  w[3] = (t3 - t2) / 2;
-  dw[0] = (-3 * t2 + 4 * t - 1) / 2;
-  dw[1] = (9 * t2 - 10 * t) / 2;
-  dw[2] = (-9 * t2 + 8 * t + 1) / 2;
-  dw[3] = (3 * t2 - 2 * t) / 2;
-}
-
 }  // namespace
 
 SdfGrid::SdfGrid(const Vec3& origin, Real cell, std::array<int, 3> nodes, std::vector<Real> values)
@@ -72,39 +59,12 @@ SdfGrid SdfGrid::from_mesh(std::span<const Vec3> vertices,
                            std::span<const std::array<std::int32_t, 3>> triangles, Real cell,
                            int margin_cells, BuildReport* report) {
   const auto start_time = std::chrono::steady_clock::now();
-  if (vertices.empty() || triangles.empty())
-    throw Error("SDF grid: the mesh has no triangles");
+  require_closed_mesh(vertices, triangles, "SDF grid");
   if (!(cell > 0) || !std::isfinite(cell))
     throw Error("SDF grid: the cell size must be positive and finite");
   Aabb bounds;
-  for (const Vec3& v : vertices) {
-    if (!v.allFinite())
-      throw Error("SDF grid: a vertex is not finite");
+  for (const Vec3& v : vertices)
     bounds.grow(v);
-  }
-  for (const auto& t : triangles)
-    for (std::int32_t i : t)
-      if (i < 0 || std::size_t(i) >= vertices.size())
-        throw Error("SDF grid: triangle index " + std::to_string(i) + " out of range");
-  // Closed and consistently oriented: every edge a -> b is met once the other way, b -> a, by
-  // another triangle (the parity below cannot see every opening: a bowl's inner face alone gives
-  // every line an even count).
-  {
-    std::vector<std::pair<std::int32_t, std::int32_t>> forward, backward;
-    for (const auto& t : triangles)
-      for (int e = 0; e < 3; ++e) {
-        const std::int32_t a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
-        forward.push_back({a, b});
-        backward.push_back({b, a});
-      }
-    std::sort(forward.begin(), forward.end());
-    std::sort(backward.begin(), backward.end());
-    if (forward != backward || std::adjacent_find(forward.begin(), forward.end()) != forward.end())
-      throw Error(
-          "SDF grid: the mesh is not closed (an edge is not shared by exactly two "
-          "triangles running it in opposite directions); a grid SDF needs a closed, "
-          "consistently oriented mesh");
-  }
   margin_cells = std::max(margin_cells, kBand + 1);
   const Vec3 origin = bounds.min - Vec3::Constant(margin_cells * cell);
   std::array<int, 3> n{};
@@ -300,38 +260,14 @@ sdf::Sample SdfGrid::inside_sample(const Vec3& p, GridInterpolation how) const {
     cell_index[k] = i;
     t[k] = std::clamp(u - Real(i), Real(0), Real(1));
   }
-  sdf::Sample s;
-  s.distance = 0;
-  s.gradient = Vec3::Zero();
-  if (how == GridInterpolation::trilinear) {
-    for (int c = 0; c < 8; ++c) {
-      const int ox = c & 1, oy = (c >> 1) & 1, oz = (c >> 2) & 1;
-      const Real v = value(cell_index[0] + ox, cell_index[1] + oy, cell_index[2] + oz);
-      const Real wx = ox ? t[0] : 1 - t[0], wy = oy ? t[1] : 1 - t[1], wz = oz ? t[2] : 1 - t[2];
-      const Real gx = ox ? 1 : -1, gy = oy ? 1 : -1, gz = oz ? 1 : -1;
-      s.distance += wx * wy * wz * v;
-      s.gradient += v * Vec3(gx * wy * wz, wx * gy * wz, wx * wy * gz);
-    }
-    s.gradient /= cell_;
-    return s;
-  }
-  Real w[3][4], dw[3][4];
-  for (int k = 0; k < 3; ++k)
-    catmull_rom(t[k], w[k], dw[k]);
-  const auto at = [&](int axis, int offset) {
-    return std::clamp(cell_index[axis] + offset - 1, 0, nodes_[std::size_t(axis)] - 1);
-  };
-  for (int c = 0; c < 4; ++c)
-    for (int b = 0; b < 4; ++b) {
-      for (int a = 0; a < 4; ++a) {
-        const Real v = value(at(0, a), at(1, b), at(2, c));
-        s.distance += w[0][a] * w[1][b] * w[2][c] * v;
-        s.gradient += v * Vec3(dw[0][a] * w[1][b] * w[2][c], w[0][a] * dw[1][b] * w[2][c],
-                               w[0][a] * w[1][b] * dw[2][c]);
-      }
-    }
-  s.gradient /= cell_;
-  return s;
+  if (how == GridInterpolation::trilinear)
+    return sdf::interpolate(cell_index, t, cell_, how,
+                            [&](int i, int j, int k) { return value(i, j, k); });
+  // Catmull-Rom reaches one node before and two after the cell: the grid's edge node repeats.
+  return sdf::interpolate(cell_index, t, cell_, how, [&](int i, int j, int k) {
+    return value(std::clamp(i, 0, nodes_[0] - 1), std::clamp(j, 0, nodes_[1] - 1),
+                 std::clamp(k, 0, nodes_[2] - 1));
+  });
 }
 
 }  // namespace tumble

@@ -28,11 +28,10 @@
 
 #include "collision/aabb.hpp"
 #include "collision/math.hpp"
+#include "collision/sdf/grid_interpolation.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 
 namespace tumble {
-
-enum class GridInterpolation : std::uint8_t { trilinear, tricubic };
 
 class SdfGrid {
  public:

@@ -1,6 +1,7 @@
 // SdfTree: the checks, the flattened layout and the evaluation (collision/sdf/sdf_tree.hpp).
 #include "collision/sdf/sdf_tree.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -64,6 +65,24 @@ SdfNode SdfNode::from_network(std::shared_ptr<const NeuralSdf> network) {
   SdfNode n;
   n.kind = SdfKind::neural;
   n.neural = std::move(network);
+  return n;
+}
+
+SdfNode SdfNode::morph(SdfNode from, SdfNode to, Real start, Real duration) {
+  SdfNode n;
+  n.kind = SdfKind::morph;
+  n.children = {std::move(from), std::move(to)};
+  n.start = start;
+  n.duration = duration;
+  return n;
+}
+
+SdfNode SdfNode::from_level_set(std::shared_ptr<const VdbLevelSet> level_set,
+                                GridInterpolation how) {
+  SdfNode n;
+  n.kind = SdfKind::level_set;
+  n.level_set = std::move(level_set);
+  n.interpolation = how;
   return n;
 }
 
@@ -189,6 +208,31 @@ void SdfTree::flatten(const SdfNode& n, std::uint32_t slot, const std::string& p
       f.first = std::uint32_t(networks_.size());
       networks_.push_back(n.neural);
       break;
+    case SdfKind::level_set:
+      if (!n.level_set)
+        throw Error("SDF " + path + ": a level-set node without its level set");
+      f.interpolation = n.interpolation;
+      f.first = std::uint32_t(level_sets_.size());
+      level_sets_.push_back(n.level_set);
+      reach_ = std::min(
+          reach_, n.level_set->band() - (n.interpolation == GridInterpolation::tricubic ? 2 : 1) *
+                                            n.level_set->voxel());
+      break;
+    case SdfKind::morph:
+      if (n.children.size() != 2)
+        throw Error("SDF " + path + ": a morph needs two fields, from and to, got " +
+                    std::to_string(n.children.size()));
+      if (!(std::isfinite(n.start) && std::abs(n.start) <= 1e9))
+        throw Error("SDF " + path + ": the start must be finite (at most 1e9 s), got " +
+                    text(n.start));
+      if (!(std::isfinite(n.duration) && n.duration > 0 && n.duration <= 1e9))
+        throw Error("SDF " + path + ": the duration must be positive (at most 1e9 s), got " +
+                    text(n.duration));
+      f.a = n.start;
+      f.b = n.duration;
+      changes_from_ = std::min(changes_from_, n.start);
+      changes_until_ = std::max(changes_until_, n.start + n.duration);
+      break;
     case SdfKind::smooth_union_of:
       if (!(std::isfinite(n.k) && n.k > 0 && n.k <= 1e9))
         throw Error("SDF " + path + ": k must be positive and at most 1e9 (1/m), got " + text(n.k));
@@ -247,8 +291,12 @@ Aabb SdfTree::bounds_of(std::uint32_t i) const {
     case SdfKind::neural:
       local = networks_[f.first]->bounds();
       break;
+    case SdfKind::level_set:
+      local = level_sets_[f.first]->bounds();
+      break;
     case SdfKind::union_of:
     case SdfKind::smooth_union_of:
+    case SdfKind::morph:  // phi <= 0 somewhere between the two solids' boxes: within their union
       for (std::uint32_t c = 0; c < f.count; ++c)
         local.grow(bounds_of(f.first + c));
       if (f.kind == SdfKind::smooth_union_of && local.min.allFinite())
@@ -273,7 +321,7 @@ Aabb SdfTree::bounds_of(std::uint32_t i) const {
   return placed_bounds(local, f.pose);
 }
 
-sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world) const {
+sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world, Real time) const {
   const Flat& f = nodes_[i];
   const Vec3 p = f.moved ? f.pose.apply_inverse(world) : world;
   sdf::Sample s;
@@ -302,13 +350,16 @@ sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world) const {
     case SdfKind::neural:
       s = networks_[f.first]->sample(p);
       break;
+    case SdfKind::level_set:
+      s = level_sets_[f.first]->sample(p, f.interpolation);
+      break;
     case SdfKind::union_of:
     case SdfKind::intersection_of: {
       // min for a union, max for an intersection; the gradient is the chosen operand's.
       const Real side = f.kind == SdfKind::union_of ? Real(1) : Real(-1);
-      s = sample_node(f.first, p);
+      s = sample_node(f.first, p, time);
       for (std::uint32_t c = 1; c < f.count; ++c) {
-        const sdf::Sample o = sample_node(f.first + c, p);
+        const sdf::Sample o = sample_node(f.first + c, p, time);
         if (side * o.distance < side * s.distance)
           s = o;
       }
@@ -316,11 +367,26 @@ sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world) const {
     }
     case SdfKind::difference_of: {
       // max(phi_A, -phi_B1, -phi_B2, ...).
-      s = sample_node(f.first, p);
+      s = sample_node(f.first, p, time);
       for (std::uint32_t c = 1; c < f.count; ++c) {
-        const sdf::Sample o = sample_node(f.first + c, p);
+        const sdf::Sample o = sample_node(f.first + c, p, time);
         if (-o.distance > s.distance)
           s = {-o.distance, -o.gradient};
+      }
+      break;
+    }
+    case SdfKind::morph: {
+      // Before the start the first field alone, after the end the second alone (not a blend
+      // with a zero weight: a far-away field's value does not leak in).
+      const Real w = std::clamp((time - f.a) / f.b, Real(0), Real(1));
+      if (w == 0) {
+        s = sample_node(f.first, p, time);
+      } else if (w == 1) {
+        s = sample_node(f.first + 1, p, time);
+      } else {
+        const sdf::Sample from = sample_node(f.first, p, time);
+        const sdf::Sample to = sample_node(f.first + 1, p, time);
+        s = {(1 - w) * from.distance + w * to.distance, (1 - w) * from.gradient + w * to.gradient};
       }
       break;
     }
@@ -333,7 +399,7 @@ sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world) const {
       Real sum = 0;
       Vec3 weighted = Vec3::Zero();
       for (std::uint32_t c = 0; c < f.count; ++c) {
-        const sdf::Sample o = sample_node(f.first + c, p);
+        const sdf::Sample o = sample_node(f.first + c, p, time);
         const Real e = -k * o.distance;
         if (e > top) {
           const Real scale = std::exp(top - e);  // 0 on the first operand

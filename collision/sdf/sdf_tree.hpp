@@ -1,7 +1,7 @@
 // A solid given by its signed distance: analytic primitives (sphere, box, capsule, cylinder,
-// torus, half-space), grids and networks, each placed by a rigid transform, combined by
-// constructive solid geometry (union, intersection, difference, smooth union) to any depth.
-// SdfTree::sample gives the signed distance of a point and its gradient, evaluated without
+// torus, half-space), grids, OpenVDB level sets and networks, each placed by a rigid transform,
+// combined by constructive solid geometry (union, intersection, difference, smooth union) to any
+// depth. SdfTree::sample gives the signed distance of a point and its gradient, evaluated without
 // allocating.
 //
 // Exact and bound: a primitive's distance is exact (|phi| is the distance to the surface and
@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "collision/sdf/neural_sdf.hpp"
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
+#include "collision/sdf/vdb_level_set.hpp"
 
 namespace tumble {
 
@@ -35,12 +37,16 @@ enum class SdfKind : std::uint8_t {
   cylinder,
   torus,
   plane,
-  grid,    // a grid of samples (collision/sdf/sdf_grid.hpp), interpolated
-  neural,  // a network (collision/sdf/neural_sdf.hpp)
+  grid,       // a grid of samples (collision/sdf/sdf_grid.hpp), interpolated
+  neural,     // a network (collision/sdf/neural_sdf.hpp)
+  level_set,  // an OpenVDB narrow-band level set (collision/sdf/vdb_level_set.hpp), interpolated
   union_of,
   intersection_of,
   difference_of,  // the first child minus every other
   smooth_union_of,
+  // (1 - w) phi_first + w phi_second, w = clamp((time - start) / duration, 0, 1): a field that
+  // morphs from one solid to another over time (a kinematic obstacle only; docs/sdf.md).
+  morph,
 };
 
 // How a node is described (from YAML, C++ or Python); SdfTree checks it and flattens it.
@@ -53,10 +59,13 @@ struct SdfNode {
   Real major_radius = 0;             // torus [m]
   Real minor_radius = 0;             // torus [m]
   Real k = 0;                        // smooth union: sharpness [1/m]; the blend is about 1/k wide
+  Real start = 0;                    // morph: when it leaves the first field [s]
+  Real duration = 0;                 // morph: how long it takes to reach the second [s]
   std::shared_ptr<const SdfGrid> grid;  // grid
   GridInterpolation interpolation = GridInterpolation::tricubic;
-  std::shared_ptr<const NeuralSdf> neural;  // neural
-  std::vector<SdfNode> children;            // the operations' operands
+  std::shared_ptr<const NeuralSdf> neural;       // neural
+  std::shared_ptr<const VdbLevelSet> level_set;  // level_set
+  std::vector<SdfNode> children;                 // the operations' operands
 
   static SdfNode sphere(Real radius);
   static SdfNode box(const Vec3& half_extents);
@@ -67,7 +76,10 @@ struct SdfNode {
   static SdfNode from_grid(std::shared_ptr<const SdfGrid> grid,
                            GridInterpolation how = GridInterpolation::tricubic);
   static SdfNode from_network(std::shared_ptr<const NeuralSdf> network);
+  static SdfNode from_level_set(std::shared_ptr<const VdbLevelSet> level_set,
+                                GridInterpolation how = GridInterpolation::trilinear);
   static SdfNode combine(SdfKind operation, std::vector<SdfNode> operands, Real k = 0);
+  static SdfNode morph(SdfNode from, SdfNode to, Real start, Real duration);
   SdfNode placed(const Transform& pose) const;
 };
 
@@ -83,9 +95,15 @@ class SdfTree {
   // deeper than kMaxDepth or larger than kMaxNodes.
   explicit SdfTree(const SdfNode& root);
 
-  // The signed distance at p (tree frame) and its gradient.
-  sdf::Sample sample(const Vec3& p) const { return sample_node(0, p); }
-  Real distance(const Vec3& p) const { return sample_node(0, p).distance; }
+  // The signed distance at p (tree frame) and its gradient, at `time` (seconds; only a morph
+  // depends on it).
+  sdf::Sample sample(const Vec3& p, Real time = 0) const { return sample_node(0, p, time); }
+  Real distance(const Vec3& p, Real time = 0) const { return sample_node(0, p, time).distance; }
+  // Whether the field changes with time (it holds a morph), and the times it stops changing
+  // between: before `changes_from()` and after `changes_until()` it is constant.
+  bool changes_with_time() const { return changes_from_ < changes_until_; }
+  Real changes_from() const { return changes_from_; }
+  Real changes_until() const { return changes_until_; }
 
   // A box holding every point with phi <= 0; infinite along the axes a half-space leaves open.
   const Aabb& bounds() const { return bounds_; }
@@ -94,6 +112,12 @@ class SdfTree {
   // and a network's values are approximations of it).
   bool is_exact() const { return nodes_[0].kind <= SdfKind::plane; }
   int node_count() const { return static_cast<int>(nodes_.size()); }
+  // How far from the surface the values are distances (or bounds of them, for CSG): infinite
+  // unless the tree holds a narrow-band level set, whose values beyond its band are clamped to
+  // the band's edge; then the band less the interpolation's reach (one voxel trilinear, two
+  // tricubic), the least of all its level sets. A contact or distance that evaluates the field
+  // farther from its surface than this (at a sphere's centre) cannot trust the value.
+  Real reach() const { return reach_; }
 
  private:
   struct Flat {
@@ -107,14 +131,18 @@ class SdfTree {
     std::uint32_t count = 0;
     GridInterpolation interpolation = GridInterpolation::tricubic;
   };
-  sdf::Sample sample_node(std::uint32_t i, const Vec3& p) const;
+  sdf::Sample sample_node(std::uint32_t i, const Vec3& p, Real time) const;
   void flatten(const SdfNode& node, std::uint32_t slot, const std::string& path, int depth);
   Aabb bounds_of(std::uint32_t i) const;
 
   std::vector<Flat> nodes_;
   std::vector<std::shared_ptr<const SdfGrid>> grids_;
   std::vector<std::shared_ptr<const NeuralSdf>> networks_;
+  std::vector<std::shared_ptr<const VdbLevelSet>> level_sets_;
   Aabb bounds_;
+  Real reach_ = std::numeric_limits<Real>::infinity();
+  Real changes_from_ = std::numeric_limits<Real>::infinity();
+  Real changes_until_ = -std::numeric_limits<Real>::infinity();
 };
 
 }  // namespace tumble

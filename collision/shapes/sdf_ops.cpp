@@ -71,7 +71,7 @@ ShapeRayHit ray(const Shape& s, const Vec3& o, const Vec3& d) {
   const Real tolerance = f.bounding_radius() * Real(1e-6);
   Real t = enter;
   for (int step = 0; step < 512 && t <= exit; ++step) {
-    const sdf::Sample sample = f.sample(o + t * d);
+    const sdf::Sample sample = f.sample(o + t * d, s.field_time);
     if (sample.distance <= tolerance) {
       const Real g = sample.gradient.norm();
       return {true, t, g > 0 ? Vec3(sample.gradient / g) : Vec3(-d / length)};
@@ -82,7 +82,7 @@ ShapeRayHit ray(const Shape& s, const Vec3& o, const Vec3& d) {
 }
 
 Real signed_distance(const Shape& s, const Vec3& p) {
-  return s.sdf->distance(p);
+  return s.sdf->distance(p, s.field_time);
 }
 
 }  // namespace

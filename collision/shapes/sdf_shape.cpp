@@ -58,12 +58,31 @@ SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
   Real deepest = 0;
   std::vector<Vec3> tree_points;
   std::vector<Vec3> tree_normals;
+  // The mass (of a static or kinematic body only, if the field changes) as the field starts.
+  const Real time_of_mass = tree_.changes_with_time() ? tree_.changes_from() : Real(0);
+  // Newton steps onto phi = 0 along the gradient, from a cell's centre.
+  const auto add_surface_point = [&](const Vec3& centre, Real time) {
+    Vec3 p = centre;
+    sdf::Sample s = tree_.sample(p, time);
+    for (int step = 0; step < 8 && std::abs(s.distance) > cell_ * Real(1e-6); ++step) {
+      const Real g2 = s.gradient.squaredNorm();
+      if (!(g2 > 0))
+        break;
+      p -= (s.distance / g2) * s.gradient;
+      s = tree_.sample(p, time);
+    }
+    if (std::abs(s.distance) <= cell_ * Real(1e-6) && s.gradient.squaredNorm() > 0 &&
+        (p - centre).norm() <= 2 * cell_) {
+      tree_points.push_back(p);
+      tree_normals.push_back(s.gradient.normalized());
+    }
+  };
   for (int z = 0; z < cells[2]; ++z)
     for (int y = 0; y < cells[1]; ++y)
       for (int x = 0; x < cells[0]; ++x) {
         const Vec3 centre =
             start + cell_ * Vec3(Real(x) + Real(0.5), Real(y) + Real(0.5), Real(z) + Real(0.5));
-        const Real phi = tree_.distance(centre);
+        const Real phi = tree_.distance(centre, time_of_mass);
         deepest = std::min(deepest, phi);
         if (phi <= -half_diagonal) {
           moments.add(centre, cell_, 1);
@@ -78,24 +97,21 @@ SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
               const Vec3 c = centre + sub * Vec3(Real(i) + Real(0.5) - Real(kSubcells) / 2,
                                                  Real(j) + Real(0.5) - Real(kSubcells) / 2,
                                                  Real(k) + Real(0.5) - Real(kSubcells) / 2);
-              moments.add(c, sub, inside_fraction(tree_.distance(c), sub));
+              moments.add(c, sub, inside_fraction(tree_.distance(c, time_of_mass), sub));
             }
-        // Newton steps onto phi = 0 along the gradient.
-        Vec3 p = centre;
-        sdf::Sample s = tree_.sample(p);
-        for (int step = 0; step < 8 && std::abs(s.distance) > cell_ * Real(1e-6); ++step) {
-          const Real g2 = s.gradient.squaredNorm();
-          if (!(g2 > 0))
-            break;
-          p -= (s.distance / g2) * s.gradient;
-          s = tree_.sample(p);
-        }
-        if (std::abs(s.distance) <= cell_ * Real(1e-6) && s.gradient.squaredNorm() > 0 &&
-            (p - centre).norm() <= 2 * cell_) {
-          tree_points.push_back(p);
-          tree_normals.push_back(s.gradient.normalized());
-        }
+        add_surface_point(centre, time_of_mass);
       }
+  // A field that changes with time has surface points of where it ends too; a query projects
+  // them onto the surface of its time (SdfShape::changes_with_time).
+  if (tree_.changes_with_time())
+    for (int z = 0; z < cells[2]; ++z)
+      for (int y = 0; y < cells[1]; ++y)
+        for (int x = 0; x < cells[0]; ++x) {
+          const Vec3 centre =
+              start + cell_ * Vec3(Real(x) + Real(0.5), Real(y) + Real(0.5), Real(z) + Real(0.5));
+          if (std::abs(tree_.distance(centre, tree_.changes_until())) < half_diagonal)
+            add_surface_point(centre, tree_.changes_until());
+        }
   if (!(moments.mass > 0) || tree_points.empty())
     throw Error("an SDF shape must enclose a solid at least a grid cell across (" +
                 std::to_string(cell_) + " m here)");
@@ -107,6 +123,13 @@ SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
   // Symmetric to the last bit (the sums above round the two triangles differently).
   unit_inertia_ = (inertia + inertia.transpose()) / (2 * moments.mass);
   inner_radius_ = -deepest;
+  // How far the surface moves over the field's change: each end's points measured in the other
+  // end's field.
+  if (tree_.changes_with_time())
+    for (const Vec3& p : tree_points)
+      surface_motion_ =
+          std::max(surface_motion_, std::max(std::abs(tree_.distance(p, tree_.changes_from())),
+                                             std::abs(tree_.distance(p, tree_.changes_until()))));
 
   points_.reserve(tree_points.size());
   normals_ = std::move(tree_normals);

@@ -35,9 +35,22 @@ class SdfShape {
   // smaller than the grid can see: no cell centre inside).
   explicit SdfShape(const SdfNode& root);
 
-  // The field in the local frame (centre of mass at the origin).
-  sdf::Sample sample(const Vec3& p) const { return tree_.sample(p + tree_origin_); }
-  Real distance(const Vec3& p) const { return tree_.distance(p + tree_origin_); }
+  // The field in the local frame (centre of mass at the origin), at `time` (seconds; Shape's
+  // field_time, which the world keeps at its clock) for a field that changes with time.
+  sdf::Sample sample(const Vec3& p, Real time = 0) const {
+    return tree_.sample(p + tree_origin_, time);
+  }
+  Real distance(const Vec3& p, Real time = 0) const {
+    return tree_.distance(p + tree_origin_, time);
+  }
+  // A field that changes with time (a morph, collision/sdf/sdf_tree.hpp): only static and
+  // kinematic bodies may have one (its mass properties are those it starts with). Its surface
+  // points are those of where it starts and where it ends, and queries project them onto the
+  // surface of their time; surface_motion() bounds how far that surface is from them.
+  bool changes_with_time() const { return tree_.changes_with_time(); }
+  Real surface_motion() const { return surface_motion_; }
+  Real changes_from() const { return tree_.changes_from(); }
+  Real changes_until() const { return tree_.changes_until(); }
 
   // Where the tree's origin is in the local frame: tree point = local point + centre_in_tree().
   const Vec3& centre_in_tree() const { return tree_origin_; }
@@ -50,6 +63,8 @@ class SdfShape {
   // The grid's cell size: the spacing of the surface points, and the scale of their error.
   Real cell_size() const { return cell_; }
   bool is_exact() const { return tree_.is_exact(); }
+  // How far from the surface the field's values can be trusted (SdfTree::reach).
+  Real reach() const { return tree_.reach(); }
 
   int surface_point_count() const { return static_cast<int>(points_.size()); }
   const Vec3& surface_point(int i) const { return points_[std::size_t(i)]; }
@@ -108,6 +123,7 @@ class SdfShape {
   Real bounding_radius_ = 0;
   Real inner_radius_ = 0;
   Real cell_ = 0;
+  Real surface_motion_ = 0;
   std::vector<Vec3> points_;
   std::vector<Vec3> normals_;
   Real bucket_ = 1;

@@ -50,6 +50,9 @@ struct Shape {
   std::shared_ptr<const TriangleMesh> mesh;       // mesh (static only)
   std::shared_ptr<const CompoundShape> compound;  // compound
   std::shared_ptr<const SdfShape> sdf;  // sdf: the field, re-centred on its centre of mass
+  // sdf: the time [s] a field that changes with time (a morph) is evaluated at; a World keeps it
+  // at its clock.
+  Real field_time = 0;
 
   static Shape sphere(Real radius);
   static Shape box(const Vec3& half_extents);

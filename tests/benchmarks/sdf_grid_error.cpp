@@ -1,19 +1,24 @@
 // The error of grid SDFs against the analytic field they stand for, by cell size (docs/sdf.md,
 // "Grids"; plotted by scripts/sdf_grid_figure.py). A torus (ring 0.4 m, tube 0.15 m) is gridded
-// two ways: from its exact distance at the nodes (the interpolation's own error) and from a closed
-// triangle mesh of it (192 x 96 quads: the mesh's chords add up to 0.08 mm), then sampled
-// trilinearly and tricubically at 20,000 fixed random points within 5 cm of the surface.
-// Prints CSV: source, cell [m], nodes, build seconds, bytes, max and mean error of each
-// interpolation [m].
+// three ways: from its exact distance at the nodes (the interpolation's own error), from a closed
+// triangle mesh of it (192 x 96 quads: the mesh's chords add up to 0.08 mm), and from the same
+// mesh as an OpenVDB narrow-band level set (when the build has OpenVDB; its band covers the 5 cm),
+// then sampled trilinearly and tricubically at 20,000 fixed random points within 5 cm of the
+// surface. Prints CSV: source, cell [m], nodes (a level set's active voxels), build seconds,
+// bytes, max and mean error of each interpolation [m].
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
+#include "collision/sdf/vdb_level_set.hpp"
 
 using namespace tumble;
 
@@ -69,29 +74,43 @@ int main() {
   std::printf(
       "source,cell,nodes,build_seconds,bytes,trilinear_max,trilinear_mean,tricubic_max,"
       "tricubic_mean\n");
-  for (const char* source : {"analytic", "mesh"}) {
+  for (const char* source : {"analytic", "mesh", "openvdb"}) {
+    if (std::string(source) == "openvdb" && !VdbLevelSet::available())
+      continue;
     for (Real cell : {0.08, 0.04, 0.02, 0.01, 0.005}) {
       const auto start = std::chrono::steady_clock::now();
       SdfGrid::BuildReport report;
-      const SdfGrid grid = std::string(source) == "analytic"
-                               ? sampled_grid(cell)
-                               : SdfGrid::from_mesh(vertices, triangles, cell,
-                                                    int(std::ceil(0.05 / cell)) + 2, &report);
+      std::optional<SdfGrid> grid;
+      std::shared_ptr<const VdbLevelSet> level_set;
+      // Each covers the 5 cm measured: the grid's margin and the level set's band.
+      const int cover = int(std::ceil(0.05 / cell)) + 2;
+      if (std::string(source) == "analytic")
+        grid = sampled_grid(cell);
+      else if (std::string(source) == "mesh")
+        grid = SdfGrid::from_mesh(vertices, triangles, cell, cover, &report);
+      else
+        level_set = VdbLevelSet::from_mesh(vertices, triangles, cell, Real(std::min(cover, 64)));
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const auto sample = [&](const Vec3& p, GridInterpolation how) {
+        return grid ? grid->sample(p, how).distance : level_set->sample(p, how).distance;
+      };
       Real max[2] = {0, 0}, sum[2] = {0, 0};
       for (const Vec3& p : points) {
         const Real exact = sdf::torus(p, kMajor, kMinor).distance;
-        const Real e0 = std::abs(grid.sample(p, GridInterpolation::trilinear).distance - exact);
-        const Real e1 = std::abs(grid.sample(p, GridInterpolation::tricubic).distance - exact);
+        const Real e0 = std::abs(sample(p, GridInterpolation::trilinear) - exact);
+        const Real e1 = std::abs(sample(p, GridInterpolation::tricubic) - exact);
         max[0] = std::max(max[0], e0);
         max[1] = std::max(max[1], e1);
         sum[0] += e0;
         sum[1] += e1;
       }
-      const std::int64_t nodes = std::int64_t(grid.nodes()[0]) * grid.nodes()[1] * grid.nodes()[2];
+      const std::int64_t nodes =
+          grid ? std::int64_t(grid->nodes()[0]) * grid->nodes()[1] * grid->nodes()[2]
+               : level_set->active_voxels();
+      const std::size_t bytes = grid ? grid->bytes() : level_set->bytes();
       std::printf("%s,%g,%lld,%.4f,%zu,%.3e,%.3e,%.3e,%.3e\n", source, cell, (long long)nodes,
-                  seconds, grid.bytes(), max[0], sum[0] / points.size(), max[1],
+                  seconds, bytes, max[0], sum[0] / points.size(), max[1],
                   sum[1] / points.size());
       std::fflush(stdout);
     }

@@ -8,52 +8,18 @@
 #include <random>
 #include <vector>
 
-#include "collision/closest_point_on_triangle.hpp"
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
+#include "tests/collision/closed_meshes.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
 namespace {
 
-using Triangles = std::vector<std::array<std::int32_t, 3>>;
-
-// A closed UV sphere of `radius`, triangles counter-clockwise seen from outside.
-void uv_sphere(Real radius, int around, int rings, std::vector<Vec3>& v, Triangles& t) {
-  const Real pi = std::numbers::pi_v<Real>;
-  v.push_back(Vec3(0, 0, -radius));
-  for (int i = 1; i < rings; ++i) {
-    const Real theta = pi * Real(i) / Real(rings);
-    for (int k = 0; k < around; ++k) {
-      const Real phi = 2 * pi * Real(k) / Real(around);
-      v.push_back(radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                -std::cos(theta)));
-    }
-  }
-  v.push_back(Vec3(0, 0, radius));
-  const auto at = [&](int ring, int k) { return 1 + (ring - 1) * around + (k % around); };
-  const int top = int(v.size()) - 1;
-  for (int k = 0; k < around; ++k) {
-    t.push_back({0, at(1, k + 1), at(1, k)});
-    t.push_back({top, at(rings - 1, k), at(rings - 1, k + 1)});
-  }
-  for (int i = 1; i < rings - 1; ++i)
-    for (int k = 0; k < around; ++k) {
-      t.push_back({at(i, k), at(i, k + 1), at(i + 1, k + 1)});
-      t.push_back({at(i, k), at(i + 1, k + 1), at(i + 1, k)});
-    }
-}
-
-Real brute_force_distance(const Vec3& p, const std::vector<Vec3>& v, const Triangles& t) {
-  Real best = std::numeric_limits<Real>::infinity();
-  for (const auto& tri : t)
-    best = std::min(
-        best, (p - closest_point_on_triangle(p, v[std::size_t(tri[0])], v[std::size_t(tri[1])],
-                                             v[std::size_t(tri[2])]))
-                  .norm());
-  return best;
-}
+using test_meshes::brute_force_distance;
+using test_meshes::Triangles;
+using test_meshes::uv_sphere;
 
 TEST(SdfGrid, MeshBuildIsExactInTheBandAndSignedEverywhere) {
   std::vector<Vec3> v;

@@ -4,8 +4,10 @@
 // point, and the smooth union's documented gap.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "collision/ccd/ray_cast.hpp"
 #include "collision/sdf/sdf_tree.hpp"
@@ -287,6 +289,42 @@ TEST(SdfTree, BadDescriptionsNameTheNode) {
   Transform nan_pose;
   nan_pose.translation.x() = std::nan("");
   EXPECT_NE(message(SdfNode::sphere(1).placed(nan_pose)).find("position"), std::string::npos);
+  EXPECT_NE(message(SdfNode::morph(SdfNode::sphere(1), SdfNode::sphere(2), 0, 0)).find("duration"),
+            std::string::npos);
+  SdfNode lone = SdfNode::morph(SdfNode::sphere(1), SdfNode::sphere(2), 0, 1);
+  lone.children.pop_back();
+  EXPECT_NE(message(lone).find("two fields"), std::string::npos);
+}
+
+TEST(SdfTree, AMorphIsTheTimeBlendOfItsTwoFields) {
+  // A sphere of 0.5 m at the origin becoming a box 0.3 m up between t = 1 and t = 3 s.
+  const SdfNode from = SdfNode::sphere(0.5);
+  const SdfNode to = SdfNode::box(Vec3(0.4, 0.3, 0.2)).placed({Vec3(0, 0, 0.3), Quat::Identity()});
+  const SdfTree morph(SdfNode::morph(from, to, 1, 2));
+  const SdfTree a(from), b(to);
+  EXPECT_TRUE(morph.changes_with_time());
+  EXPECT_FALSE(a.changes_with_time());
+  EXPECT_EQ(morph.changes_from(), 1);
+  EXPECT_EQ(morph.changes_until(), 3);
+  // Within the union of the two solids' boxes.
+  EXPECT_LE(morph.bounds().min.z(), -0.5);
+  EXPECT_GE(morph.bounds().max.z(), 0.5);
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<Real> u(-1, 1), when(-1, 5);
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const Real t = when(rng);
+    const Real w = std::clamp((t - 1) / 2, Real(0), Real(1));
+    const sdf::Sample s = morph.sample(p, t), sa = a.sample(p), sb = b.sample(p);
+    ASSERT_NEAR(s.distance, (1 - w) * sa.distance + w * sb.distance, 1e-15) << t;
+    ASSERT_LT((s.gradient - ((1 - w) * sa.gradient + w * sb.gradient)).norm(), 1e-15) << t;
+    if (t <= 1) {
+      ASSERT_EQ(s.distance, sa.distance);  // before the start, the first field alone
+    }
+    if (t >= 3) {
+      ASSERT_EQ(s.distance, sb.distance);  // after the end, the second alone
+    }
+  }
 }
 
 }  // namespace

@@ -16,10 +16,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "collision/sdf/vdb_level_set.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/load_scene.hpp"
 #include "tumble/world.hpp"
@@ -42,6 +44,14 @@ std::vector<fs::path> every_scene() {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// Scenes that need OpenVDB (a level set built or read by it) are measured only in builds with it.
+bool needs_openvdb(const fs::path& scene) {
+  std::ifstream in(scene);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return text.find("builder: openvdb") != std::string::npos ||
+         text.find(".vdb") != std::string::npos;
 }
 
 std::string hex(std::uint64_t h) {
@@ -67,7 +77,12 @@ TEST(GoldenHashes, EverySceneUnderBothSolversEndsWhereRecorded) {
   std::map<std::string, std::string> measured;
   const auto scenes = every_scene();
   ASSERT_GE(scenes.size(), 40u);
+  std::vector<std::string> left_out;
   for (const fs::path& path : scenes) {
+    if (needs_openvdb(path) && !VdbLevelSet::available()) {
+      left_out.push_back(fs::relative(path, fs::path(TUMBLE_SOURCE_DIR)).string() + " ");
+      continue;
+    }
     const auto base = load_scene(path);
     const std::string name = fs::relative(path, fs::path(TUMBLE_SOURCE_DIR)).string();
     const int bodies = int(base->bodies.size());
@@ -96,8 +111,11 @@ TEST(GoldenHashes, EverySceneUnderBothSolversEndsWhereRecorded) {
     }
     EXPECT_EQ(hash, found->second) << key;
   }
-  for (const auto& [key, hash] : recorded)
-    EXPECT_TRUE(measured.count(key)) << key << ": recorded but no longer measured";
+  for (const auto& [key, hash] : recorded) {
+    const bool skipped = std::any_of(left_out.begin(), left_out.end(),
+                                     [&](const std::string& s) { return key.rfind(s, 0) == 0; });
+    EXPECT_TRUE(skipped || measured.count(key)) << key << ": recorded but no longer measured";
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "collision/sdf/vdb_level_set.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/load_scene.hpp"
 #include "tumble/world.hpp"
@@ -133,6 +134,19 @@ TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
   EXPECT_LT((mesh.capsule - csg.capsule).head<2>().norm(), 2.5e-3) << mesh.capsule.transpose();
 }
 
+TEST(SdfScenes, BodiesRestInAnOpenVdbBowlWhereTheyRestInTheCsgBowl) {
+  if (!VdbLevelSet::available())
+    GTEST_SKIP() << "this build has no OpenVDB";
+  // The same bowls as OpenVDB level sets of the closed bowl mesh (1 cm voxels, tricubic): the
+  // mesh's facets are within 0.4 mm of the sphere, the voxels' interpolation within a few tenths
+  // of a millimetre, so both bodies rest within a millimetre of where the CSG bowl holds them.
+  const Rest csg = rest_in_bowls("things_in_bowls.yaml");
+  const Rest vdb = rest_in_bowls("things_in_level_set_bowls.yaml");
+  EXPECT_LT((vdb.box - csg.box).norm(), 1e-3) << vdb.box.transpose();
+  EXPECT_LT(vdb.box_tilt, 1e-3);
+  EXPECT_LT((vdb.capsule - csg.capsule).norm(), 1e-3) << vdb.capsule.transpose();
+}
+
 }  // namespace
 }  // namespace tumble
 
@@ -225,6 +239,44 @@ TEST(SdfScenes, PenaltyContactOnAFieldIsTheSpringLaw) {
   const Real sink = 2 * 9.81 / 1e5;
   EXPECT_NEAR(on_field, 0.3 - sink, 1e-9);
   EXPECT_NEAR(on_field, on_box, 1e-12);
+}
+
+}  // namespace
+}  // namespace tumble
+
+namespace tumble {
+namespace {
+
+TEST(SdfScenes, AMorphingPlatformCarriesWhatRestsOnIt) {
+  // The platform's top rises from z = 0.1 to 0.3 m between 0.5 and 2.5 s (10 cm/s). The box
+  // (half extent 0.1) and the ball (radius 0.1) rest on it at 0.2 m before, are carried up
+  // without sinking in, and rest at 0.4 m after.
+  World world(sdf_scene("rising_platform.yaml"));
+  const BodyId box = world.body("box"), ball = world.body("ball");
+  const Real dt = world.scene().world.dt;
+  Real worst_sink = 0;
+  for (int i = 0; i < int(std::lround(4.0 / dt)); ++i) {
+    world.step();
+    const Real t = world.time();
+    const Real top = 0.1 + 0.2 * std::clamp((t - 0.5) / 2.0, 0.0, 1.0);
+    if (t > 0.3) {
+      for (BodyId id : {box, ball})
+        worst_sink = std::max(worst_sink, top + 0.1 - world.body_state(id).position.z());
+    }
+    if (std::abs(t - 0.45) < dt / 2) {
+      EXPECT_NEAR(world.body_state(box).position.z(), 0.2, 1e-3);
+      EXPECT_NEAR(world.body_state(ball).position.z(), 0.2, 1e-3);
+    }
+  }
+  // Pushed out by the solver as the surface moves into them (10 cm/s, 0.4 mm a step): they may
+  // lag it by a few millimetres, never fall through.
+  EXPECT_LT(worst_sink, 5e-3);
+  for (BodyId id : {box, ball}) {
+    const BodyState s = world.body_state(id);
+    EXPECT_NEAR(s.position.z(), 0.4, 1e-3) << world.name(id);
+    EXPECT_NEAR(s.position.x(), id == box ? -0.3 : 0.3, 2e-3) << world.name(id);
+    EXPECT_LT(s.velocity.norm(), 1e-2) << world.name(id);
+  }
 }
 
 }  // namespace

@@ -61,7 +61,7 @@ sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x,
       s = {p.z(), Vec3::UnitZ()};
       break;
     case ShapeType::sdf:
-      s = a.sdf->sample(p);
+      s = a.sdf->sample(p, a.field_time);
       break;
     case ShapeType::hull: {
       // The farthest face plane and its normal: the exact distance and gradient inside, where
@@ -99,8 +99,9 @@ sdf::Sample partner_sample(const Shape& a, const Transform& pose, const Vec3& x,
 struct Surface {
   const SdfShape* field;
   Transform pose;  // the field's frame in B's frame
+  Real time = 0;   // for a field that changes with time
   sdf::Sample sample(const Vec3& x) const {
-    sdf::Sample s = field->sample(pose.apply_inverse(x));
+    sdf::Sample s = field->sample(pose.apply_inverse(x), time);
     s.gradient = pose.rotate(s.gradient);
     return s;
   }
@@ -247,11 +248,25 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
   // Buckets of points farther from the partner than their ball's radius plus the margin are
   // skipped whole: every field here is 1-Lipschitz (distances, their CSG bounds, interpolated
   // grids to their interpolation error, which the margin covers).
+  // A field that changes with time: its stored points are where it starts or ends, up to
+  // surface_motion() from its surface now; each is projected onto that surface first.
+  const Real motion = field.surface_motion();
   const auto near = [&](const Vec3& centre, Real radius) {
-    return partner(surface.pose.apply(centre), false).distance < radius + margin;
+    return partner(surface.pose.apply(centre), false).distance < radius + motion + margin;
   };
+  const auto on_surface_now = [&](Vec3 p) {
+    for (int k = 0; k < 3; ++k) {
+      const sdf::Sample s = field.sample(p, surface.time);
+      const Real g2 = s.gradient.squaredNorm();
+      if (!(g2 > 0))
+        break;
+      p -= (s.distance / g2) * s.gradient;
+    }
+    return p;
+  };
+  const bool moving = field.changes_with_time();
   field.for_each_surface_point_in(local, near, [&](int i) {
-    const Vec3& own = field.surface_point(i);
+    const Vec3 own = moving ? on_surface_now(field.surface_point(i)) : field.surface_point(i);
     const Real d = partner(surface.pose.apply(own), false).distance;
     if (!(d < margin))
       return;
@@ -282,13 +297,18 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
 }
 
 // A (sphere, box, capsule, plane, cylinder, hull) against the SDF B, in B's frame.
-int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real margin,
-                       Manifold& out) {
+int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real time,
+                       Real margin, Manifold& out) {
   ContactCollector collector;
   const Aabb b_box = field.local_bounds().inflated(margin);
-  const Surface surface{&field, Transform{}};
+  const Surface surface{&field, Transform{}, time};
+  // A sphere's or capsule's core is `radius` from the surface when they touch: evaluated directly
+  // where the field is a distance that far out, otherwise (a narrow-band level set thinner than
+  // the radius) through B's surface points like any other shape.
+  const bool round = a.type == ShapeType::sphere || a.type == ShapeType::capsule;
+  const bool direct = round && a.radius + margin < field.reach();
   // Kind 1: A's points in B's field.
-  if (a.type == ShapeType::sphere || a.type == ShapeType::capsule) {
+  if (direct) {
     const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
     const int n = a.type == ShapeType::capsule
                       ? std::clamp(int(std::ceil(2 * a.half_length / field.cell_size())), 1, 16)
@@ -296,7 +316,7 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
     for (int i = 0; i <= n; ++i) {
       const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
       const Vec3 c = pose_a.translation + along * axis;
-      const sdf::Sample s = field.sample(c);
+      const sdf::Sample s = field.sample(c, time);
       const Real depth = a.radius - s.distance;
       if (!(depth >= -margin))
         continue;
@@ -307,19 +327,20 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
                          : feature::kSphere,
                      kSdfSurface});
     }
-  } else if (a.type != ShapeType::plane) {
+  } else if (!round && a.type != ShapeType::plane) {
     for_each_surface_sample(a, field.cell_size(), [&](const Vec3& local, std::uint16_t id) {
       const Vec3 p = pose_a.apply(local);
       if (!b_box.contains(p))
         return;
-      const sdf::Sample s = field.sample(p);
+      const sdf::Sample s = field.sample(p, time);
       if (!(-s.distance >= -margin))
         return;
       collector.add(normalized_or(s.gradient, Vec3::UnitZ()), p, -s.distance, {id, kSdfSurface});
     });
   }
-  // Kind 2: B's surface points in A's distance (a sphere or capsule needs none: kind 1 is exact).
-  if (a.type != ShapeType::sphere && a.type != ShapeType::capsule) {
+  // Kind 2: B's surface points in A's distance (a sphere or capsule evaluated directly needs none:
+  // kind 1 is exact).
+  if (!direct) {
     const Aabb a_box =
         a.type == ShapeType::plane ? field.local_bounds() : world_aabb(a, pose_a).inflated(margin);
     const auto partner = [&](const Vec3& x, bool gradient) {
@@ -339,13 +360,13 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
 
 // A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
 // B's surface points under each triangle measured from its plane.
-int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real margin,
-                     Manifold& out) {
+int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real time,
+                     Real margin, Manifold& out) {
   const TriangleMesh& mesh = *a.mesh;
   const Aabb b_box = field.local_bounds().inflated(margin);
   const Aabb query = b_box.placed(pose_a.inverse());  // B's box in the mesh's frame
   ContactCollector collector;
-  const Surface surface{&field, Transform{}};
+  const Surface surface{&field, Transform{}, time};
   const Real spacing = field.cell_size();
   mesh.for_each_overlapping(query, [&](int t) {
     const Vec3 v0 = pose_a.apply(mesh.corner(t, 0));
@@ -362,7 +383,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
         const Vec3 p = v0 + (v1 - v0) * (Real(i) / Real(n)) + (v2 - v0) * (Real(j) / Real(n));
         if (!b_box.contains(p))
           continue;
-        const sdf::Sample s = field.sample(p);
+        const sdf::Sample s = field.sample(p, time);
         if (-s.distance >= -margin)
           collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface});
       }
@@ -406,8 +427,9 @@ int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
             Real margin, Manifold& out) {
   // Into B's frame, and the answer back out.
   const Transform a_in_b = pose_b.relative(pose_a);
-  const int count = a.type == ShapeType::mesh ? mesh_against_sdf(a, a_in_b, *b.sdf, margin, out)
-                                              : convex_against_sdf(a, a_in_b, *b.sdf, margin, out);
+  const int count = a.type == ShapeType::mesh
+                        ? mesh_against_sdf(a, a_in_b, *b.sdf, b.field_time, margin, out)
+                        : convex_against_sdf(a, a_in_b, *b.sdf, b.field_time, margin, out);
   out.normal = pose_b.rotate(out.normal);
   for (int i = 0; i < count; ++i)
     out.points[i].position = pose_b.apply(out.points[i].position);
@@ -419,8 +441,8 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   const Transform a_in_b = pose_b.relative(pose_a);
   const SdfShape& fa = *a.sdf;
   const SdfShape& fb = *b.sdf;
-  const Surface surface_a{&fa, a_in_b};
-  const Surface surface_b{&fb, Transform{}};
+  const Surface surface_a{&fa, a_in_b, a.field_time};
+  const Surface surface_b{&fb, Transform{}, b.field_time};
   // Where the two boxes overlap: only there can either surface be inside the other.
   const Aabb a_box = fa.local_bounds().placed(a_in_b);
   const Aabb b_box = fb.local_bounds();
