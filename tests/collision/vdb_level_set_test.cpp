@@ -27,9 +27,9 @@
 namespace tumble {
 namespace {
 
-#define SKIP_WITHOUT_OPENVDB()                                        \
-  do {                                                                \
-    if (!VdbLevelSet::available())                                    \
+#define SKIP_WITHOUT_OPENVDB()                                           \
+  do {                                                                   \
+    if (!VdbLevelSet::available())                                       \
       GTEST_SKIP() << "this build has no OpenVDB (TUMBLE_WITH_OPENVDB)"; \
   } while (false)
 
@@ -38,6 +38,14 @@ std::filesystem::path scratch_file(const std::string& name) {
       std::filesystem::temp_directory_path() / ("tumble_vdb_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir / name;
+}
+
+// The level set of a closed box mesh of half extents `half`, voxels of `voxel` metres.
+std::shared_ptr<const VdbLevelSet> box_level_set(const Vec3& half, Real voxel) {
+  std::vector<Vec3> v;
+  test_meshes::Triangles t;
+  test_meshes::box_mesh(half, v, t);
+  return VdbLevelSet::from_mesh(v, t, voxel);
 }
 
 TEST(VdbLevelSet, BandOfAMeshIsItsDistanceAndAgreesWithTheDenseGrid) {
@@ -116,10 +124,7 @@ TEST(VdbLevelSet, GradientsAreThoseOfTheInterpolant) {
 
 TEST(VdbLevelSet, FilesReadBackAsWritten) {
   SKIP_WITHOUT_OPENVDB();
-  std::vector<Vec3> v;
-  test_meshes::Triangles t;
-  test_meshes::box_mesh(Vec3(0.5, 0.5, 0.25), v, t);
-  const auto level_set = VdbLevelSet::from_mesh(v, t, 0.04);
+  const auto level_set = box_level_set(Vec3(0.5, 0.5, 0.25), 0.04);
   const auto doubles = scratch_file("box_double.vdb");
   const auto floats = scratch_file("box_float.vdb");
   level_set->save(doubles);
@@ -198,10 +203,7 @@ TEST(VdbLevelSet, RoundShapesWiderThanTheBandTouchItsSurface) {
   // A box of half extents (0.5, 0.5, 0.2) as a level set with a band of 3 voxels of 2 cm: a ball
   // of radius 0.1 has its centre beyond the band when it touches, so its contact comes from the
   // field's surface points in the ball's exact distance; the depth must still be the box's.
-  std::vector<Vec3> v;
-  test_meshes::Triangles t;
-  test_meshes::box_mesh(Vec3(0.5, 0.5, 0.2), v, t);
-  const auto level_set = VdbLevelSet::from_mesh(v, t, 0.02);
+  const auto level_set = box_level_set(Vec3(0.5, 0.5, 0.2), 0.02);
   const Shape field = sdf_shape(SdfNode::from_level_set(level_set));
   ASSERT_LT(field.sdf->reach(), 0.1);
   const Vec3 centre_offset = field.sdf->centre_in_tree();  // the body frame is the mass centre's
