@@ -11,8 +11,7 @@
 namespace tumble {
 
 void require_closed_mesh(std::span<const Vec3> vertices,
-                         std::span<const std::array<std::int32_t, 3>> triangles,
-                         const char* what) {
+                         std::span<const std::array<std::int32_t, 3>> triangles, const char* what) {
   const std::string prefix = std::string(what) + ": ";
   if (vertices.empty() || triangles.empty())
     throw Error(prefix + "the mesh has no triangles");

@@ -2,12 +2,12 @@
 // building from a mesh, writing, and sampling through an accessor.
 #include "collision/sdf/vdb_level_set.hpp"
 
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
-#include <mutex>
 #include <limits>
+#include <mutex>
 #include <system_error>
-#include <unistd.h>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -161,8 +161,8 @@ std::shared_ptr<const VdbLevelSet> VdbLevelSet::from_mesh(
   openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel);
   openvdb::DoubleGrid::Ptr grid;
   try {
-    grid = openvdb::tools::meshToLevelSet<openvdb::DoubleGrid>(*xf, points, faces,
-                                                                float(band_voxels));
+    grid =
+        openvdb::tools::meshToLevelSet<openvdb::DoubleGrid>(*xf, points, faces, float(band_voxels));
   } catch (const openvdb::Exception& e) {
     throw Error(std::string("OpenVDB level set: ") + e.what());
   }
@@ -183,7 +183,8 @@ void VdbLevelSet::save(const std::filesystem::path& file, bool single_precision)
   initialise_openvdb();
   openvdb::GridBase::ConstPtr grid = impl_->grid;
   if (single_precision) {
-    auto floats = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(impl_->grid->tree()));
+    auto floats =
+        openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(impl_->grid->tree()));
     floats->setTransform(impl_->grid->transform().copy());
     floats->setGridClass(openvdb::GRID_LEVEL_SET);
     floats->setName(impl_->grid->getName());

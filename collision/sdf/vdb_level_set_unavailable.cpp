@@ -26,8 +26,7 @@ std::shared_ptr<const VdbLevelSet> VdbLevelSet::load(const std::filesystem::path
   refuse();
 }
 std::shared_ptr<const VdbLevelSet> VdbLevelSet::from_mesh(
-    std::span<const Vec3>, std::span<const std::array<std::int32_t, 3>>, Real, Real,
-    BuildReport*) {
+    std::span<const Vec3>, std::span<const std::array<std::int32_t, 3>>, Real, Real, BuildReport*) {
   refuse();
 }
 void VdbLevelSet::save(const std::filesystem::path&, bool) const {

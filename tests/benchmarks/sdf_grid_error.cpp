@@ -110,8 +110,7 @@ int main() {
                : level_set->active_voxels();
       const std::size_t bytes = grid ? grid->bytes() : level_set->bytes();
       std::printf("%s,%g,%lld,%.4f,%zu,%.3e,%.3e,%.3e,%.3e\n", source, cell, (long long)nodes,
-                  seconds, bytes, max[0], sum[0] / points.size(), max[1],
-                  sum[1] / points.size());
+                  seconds, bytes, max[0], sum[0] / points.size(), max[1], sum[1] / points.size());
       std::fflush(stdout);
     }
   }
