@@ -108,9 +108,9 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
     check_known(params, kMorphKeys);
     const Entry& from = require(params, "from");
     const Entry& to = require(params, "to");
-    const Real start = params.find("start") != nullptr
-                           ? read_real(*params.find("start"), child(here, "start"), kMorphStart)
-                           : Real(0);
+    const Entry* start_at = params.find("start");
+    const Real start =
+        start_at != nullptr ? read_real(*start_at, child(here, "start"), kMorphStart) : Real(0);
     const Real duration =
         read_real(require(params, "duration"), child(here, "duration"), kMorphDuration);
     n = SdfNode::morph(load_sdf_node(from.value, from.mark(), child(here, "from"), depth + 1),

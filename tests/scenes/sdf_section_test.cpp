@@ -149,15 +149,14 @@ TEST(SdfYaml, AMorphReadsBothFieldsAndItsTimes) {
                             "s.yaml")
                 .start,
             0);
-  const auto expect = [&](const std::string& yaml, const std::string& where,
-                          const std::string& what) { expect_refused(yaml, "s.yaml", where, what); };
-  expect("{morph: {from: {sphere: {radius: 1}}, duration: 1}}", "sdf.morph.to", "missing");
-  expect("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: 2}}}}", "sdf.morph.duration",
-         "missing");
-  expect("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: 2}}, duration: 0}}",
-         "sdf.morph.duration", "greater than 0");
-  expect("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: -2}}, duration: 1}}",
-         "sdf.morph.to.sphere.radius", "");
+  expect_refused("{morph: {from: {sphere: {radius: 1}}, duration: 1}}", "s.yaml", "sdf.morph.to",
+                 "missing");
+  expect_refused("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: 2}}}}", "s.yaml",
+                 "sdf.morph.duration", "missing");
+  expect_refused("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: 2}}, duration: 0}}",
+                 "s.yaml", "sdf.morph.duration", "greater than 0");
+  expect_refused("{morph: {from: {sphere: {radius: 1}}, to: {sphere: {radius: -2}}, duration: 1}}",
+                 "s.yaml", "sdf.morph.to.sphere.radius", "");
   // A morph is an obstacle: a dynamic body of one is refused, naming the body's shape.
   const std::string body =
       "world: {dt: 0.01}\nbodies:\n  - name: lump\n    shape: {type: sdf, sdf: {morph: {from: "
