@@ -125,6 +125,10 @@ def test_distance_of_a_sphere_to_a_field_has_its_gradient():
     assert d["distance"] == pytest.approx(0.05, abs=1e-12)
     np.testing.assert_allclose(d["normal"], [0, 0, 1], atol=1e-12)
     np.testing.assert_allclose(d["gradient_a"], [0, 0, 1, 0, 0, 0], atol=1e-12)
-    with pytest.raises(tumble.Error, match="only spheres and capsules"):
-        tumble.distance({"type": "box", "half_extents": [0.1, 0.1, 0.1]}, [0, 0, 1], torus,
-                        [0, 0, 0])
+    # A box of half extent 0.1 at the same place: its bottom face 0.05 m above the tube's top.
+    box = tumble.distance({"type": "box", "half_extents": [0.1, 0.1, 0.1]}, [0.6, 0, 0.35], torus,
+                          [0, 0, 0])
+    assert box["distance"] == pytest.approx(0.05, abs=1e-9)
+    np.testing.assert_allclose(box["gradient_a"][:3], [0, 0, 1], atol=1e-6)
+    with pytest.raises(tumble.Error, match="fields are measured against"):
+        tumble.distance({"type": "plane"}, [0, 0, 1], torus, [0, 0, 0])
