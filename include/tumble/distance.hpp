@@ -41,9 +41,10 @@ struct ShapeDistance {
 // value of the field over the shape, a sphere's or capsule's over its core less the radius, with
 // gradients from grad phi there; zero where that point is a kink of the field phi cannot go below).
 // Throws tumble::Error for a mesh, a compound, a plane against a field, two planes, a field
-// against a field, or a pose that is not finite. Without `gradients` the gradients are left zero (a penetrating
-// pair with a cylinder then costs one query instead of 25: its gradients are central differences
-// of the depth, since EPA's witness points on the curved rim are off the line of contact).
+// against a field, or a pose that is not finite. Without `gradients` the gradients are left zero (a
+// penetrating pair with a cylinder then costs one query instead of 25: its gradients are central
+// differences of the depth, since EPA's witness points on the curved rim are off the line of
+// contact).
 ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Shape& b,
                                const Transform& pose_b, bool gradients = true);
 
