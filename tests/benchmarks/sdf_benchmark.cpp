@@ -10,8 +10,10 @@
 
 #include "collision/narrow_phase/narrow_phase.hpp"
 #include "collision/sdf/sdf_tree.hpp"
+#include "collision/sdf/vdb_level_set.hpp"
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/sdf_shape.hpp"
+#include "tests/collision/closed_meshes.hpp"
 #include "tumble/distance.hpp"
 
 namespace tumble {
@@ -74,17 +76,9 @@ void BM_SdfBowl(benchmark::State& state) {
 }
 BENCHMARK(BM_SdfBowl);
 
-// A torus (0.4, 0.15) gridded from its exact field at 2 cm cells; samples near its surface.
-void run_grid(benchmark::State& state, GridInterpolation how) {
-  const Real cell = 0.02, half = 0.65;
-  const int n = int(2 * half / cell) + 1, nz = int(2 * 0.25 / cell) + 1;
-  const Vec3 origin(-half, -half, -0.25);
-  std::vector<Real> values;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        values.push_back(sdf::torus(origin + cell * Vec3(i, j, k), 0.4, 0.15).distance);
-  const SdfGrid grid(origin, cell, {n, n, nz}, std::move(values));
+// 4,096 fixed points within 5 cm of the torus (0.4, 0.15), and a sampler of them timed.
+template <class Sample>
+void run_near_torus(benchmark::State& state, Sample&& sample) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<Real> u(-1, 1);
   std::vector<Vec3> points;
@@ -95,9 +89,23 @@ void run_grid(benchmark::State& state, GridInterpolation how) {
   }
   std::size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(grid.sample(points[i], how));
+    benchmark::DoNotOptimize(sample(points[i]));
     i = (i + 1) & 4095;
   }
+}
+
+// The torus gridded from its exact field at 2 cm cells.
+void run_grid(benchmark::State& state, GridInterpolation how) {
+  const Real cell = 0.02, half = 0.65;
+  const int n = int(2 * half / cell) + 1, nz = int(2 * 0.25 / cell) + 1;
+  const Vec3 origin(-half, -half, -0.25);
+  std::vector<Real> values;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        values.push_back(sdf::torus(origin + cell * Vec3(i, j, k), 0.4, 0.15).distance);
+  const SdfGrid grid(origin, cell, {n, n, nz}, std::move(values));
+  run_near_torus(state, [&](const Vec3& p) { return grid.sample(p, how); });
 }
 void BM_SdfGridTrilinear(benchmark::State& state) {
   run_grid(state, GridInterpolation::trilinear);
@@ -107,6 +115,28 @@ void BM_SdfGridTricubic(benchmark::State& state) {
 }
 BENCHMARK(BM_SdfGridTrilinear);
 BENCHMARK(BM_SdfGridTricubic);
+
+// The same torus as an OpenVDB level set of a 192 x 96 quad mesh, 2 cm voxels, a band of 3 + 2
+// voxels (covering the 5 cm sampled): the sparse tree's lookups against the dense array's.
+void run_level_set(benchmark::State& state, GridInterpolation how) {
+  if (!VdbLevelSet::available()) {
+    state.SkipWithError("this build has no OpenVDB");
+    return;
+  }
+  std::vector<Vec3> v;
+  test_meshes::Triangles t;
+  test_meshes::torus_mesh(0.4, 0.15, 192, 96, v, t);
+  const auto level_set = VdbLevelSet::from_mesh(v, t, 0.02, 5);
+  run_near_torus(state, [&](const Vec3& p) { return level_set->sample(p, how); });
+}
+void BM_SdfLevelSetTrilinear(benchmark::State& state) {
+  run_level_set(state, GridInterpolation::trilinear);
+}
+void BM_SdfLevelSetTricubic(benchmark::State& state) {
+  run_level_set(state, GridInterpolation::tricubic);
+}
+BENCHMARK(BM_SdfLevelSetTrilinear);
+BENCHMARK(BM_SdfLevelSetTricubic);
 
 // A softplus network of the committed fit's shape (tests/data/neural: 2 bands, 3 hidden layers of
 // 32), random weights: the cost does not depend on their values.

@@ -19,29 +19,13 @@
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 #include "collision/sdf/vdb_level_set.hpp"
+#include "tests/collision/closed_meshes.hpp"
 
 using namespace tumble;
 
 namespace {
 
 constexpr Real kMajor = 0.4, kMinor = 0.15;
-
-void torus_mesh(int around, int tube, std::vector<Vec3>& v,
-                std::vector<std::array<std::int32_t, 3>>& t) {
-  const Real pi = std::numbers::pi_v<Real>;
-  for (int i = 0; i < around; ++i)
-    for (int j = 0; j < tube; ++j) {
-      const Real u = 2 * pi * i / around, w = 2 * pi * j / tube;
-      v.push_back(Vec3((kMajor + kMinor * std::cos(w)) * std::cos(u),
-                       (kMajor + kMinor * std::cos(w)) * std::sin(u), kMinor * std::sin(w)));
-    }
-  const auto at = [&](int i, int j) { return std::int32_t((i % around) * tube + (j % tube)); };
-  for (int i = 0; i < around; ++i)
-    for (int j = 0; j < tube; ++j) {
-      t.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      t.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-}
 
 SdfGrid sampled_grid(Real cell) {
   // The grid covers every sample point (within 5 cm of the surface) and two cells more.
@@ -70,7 +54,7 @@ int main() {
   }
   std::vector<Vec3> vertices;
   std::vector<std::array<std::int32_t, 3>> triangles;
-  torus_mesh(192, 96, vertices, triangles);
+  test_meshes::torus_mesh(kMajor, kMinor, 192, 96, vertices, triangles);
   std::printf(
       "source,cell,nodes,build_seconds,bytes,trilinear_max,trilinear_mean,tricubic_max,"
       "tricubic_mean\n");

@@ -55,6 +55,25 @@ inline void box_mesh(const Vec3& h, std::vector<Vec3>& v, Triangles& t) {
   }
 }
 
+// A closed torus of ring `major` and tube `minor`, `around` quads along the ring by `tube` around
+// the tube.
+inline void torus_mesh(Real major, Real minor, int around, int tube, std::vector<Vec3>& v,
+                       Triangles& t) {
+  const Real pi = std::numbers::pi_v<Real>;
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      const Real u = 2 * pi * i / around, w = 2 * pi * j / tube;
+      v.push_back(Vec3((major + minor * std::cos(w)) * std::cos(u),
+                       (major + minor * std::cos(w)) * std::sin(u), minor * std::sin(w)));
+    }
+  const auto at = [&](int i, int j) { return std::int32_t((i % around) * tube + (j % tube)); };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      t.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      t.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
 inline Real brute_force_distance(const Vec3& p, const std::vector<Vec3>& v, const Triangles& t) {
   Real best = std::numeric_limits<Real>::infinity();
   for (const auto& tri : t)
