@@ -825,9 +825,12 @@ void Simulation::collide_candidate_pairs() {
             collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
                     shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
                     candidate_gjk_[i]);
-          } else {
+          } else if (field_changes_[std::size_t(pair.a)] | field_changes_[std::size_t(pair.b)]) {
             Shape timed_a, timed_b;
             collide(shape_now(pair.a, timed_a), shape_poses_[pair.a], shape_now(pair.b, timed_b),
+                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+          } else {
+            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
                     shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
           }
         }
