@@ -1,48 +1,12 @@
 #include "engine/continuous_collision.hpp"
 
 #include <algorithm>
-#include <limits>
-
-#include "collision/shapes/compound_shape.hpp"
-#include "collision/shapes/convex_hull.hpp"
-#include "collision/shapes/sdf_shape.hpp"
 
 #include "collision/ccd/conservative_advancement.hpp"
+#include "collision/shapes/shape.hpp"
 
 namespace tumble {
 namespace {
-
-Real thickness_of(const Shape& shape) {
-  switch (shape.type) {
-    case ShapeType::sphere:
-    case ShapeType::capsule:
-      return shape.radius;
-    case ShapeType::box:
-      return shape.half_extents.minCoeff();
-    case ShapeType::cylinder:
-      return std::min(shape.radius, shape.half_length);
-    case ShapeType::hull: {
-      // The centre of mass is inside: its distance to the nearest face plane.
-      Real inner = std::numeric_limits<Real>::infinity();
-      for (const HullFace& f : shape.hull->faces())
-        inner = std::min(inner, f.offset);
-      return inner;
-    }
-    case ShapeType::compound: {
-      // The thinnest part: a body is swept as soon as any part could pass through something.
-      Real thinnest = std::numeric_limits<Real>::infinity();
-      for (const CompoundPart& part : shape.compound->parts())
-        thinnest = std::min(thinnest, thickness_of(part.shape));
-      return thinnest;
-    }
-    case ShapeType::sdf:
-      return shape.sdf->inner_radius();  // the largest ball inside, from the field's grid
-    case ShapeType::plane:
-    case ShapeType::mesh:
-      break;  // static only: never swept
-  }
-  return 0;
-}
 
 // The body's motion over the step, from its start pose to its pose now. The turn between two
 // orientations is only known modulo a full turn, and a body spinning fast turns by more than
@@ -102,7 +66,7 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   entries_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const BodyDesc& d = scene.bodies[i];
-    thickness_[i] = thickness_of(d.shape);
+    thickness_[i] = inner_radius(d.shape);
     radius_[i] = d.shape.is_bounded() ? bounding_radius(d.shape) : Real(0);
     if (!d.is_static && scene.world.ccd != CcdMode::off)
       enabled_ = true;

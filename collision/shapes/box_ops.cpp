@@ -80,9 +80,13 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return q.cwiseMax(Real(0)).norm() + std::min(q.maxCoeff(), Real(0));
 }
 
+Real inner_radius(const Shape& s) {
+  return s.half_extents.minCoeff();
+}
+
 }  // namespace
 
-const ShapeOps kBoxOps{"box",        support,         world_aabb, volume,
-                       unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kBoxOps{"box",           support, world_aabb,      volume,      unit_inertia,
+                       bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

@@ -71,9 +71,13 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return (p - Vec3(0, 0, z)).norm() - s.radius;
 }
 
+Real inner_radius(const Shape& s) {
+  return s.radius;
+}
+
 }  // namespace
 
-const ShapeOps kCapsuleOps{"capsule",    support,         world_aabb, volume,
-                           unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kCapsuleOps{"capsule",       support, world_aabb,      volume,      unit_inertia,
+                           bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

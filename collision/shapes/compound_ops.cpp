@@ -52,9 +52,17 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return best;
 }
 
+// The thinnest part's (a body is swept as soon as any part could pass through something).
+Real inner_radius(const Shape& s) {
+  Real thinnest = std::numeric_limits<Real>::infinity();
+  for (const CompoundPart& part : s.compound->parts())
+    thinnest = std::min(thinnest, shape_ops(part.shape.type).inner_radius(part.shape));
+  return thinnest;
+}
+
 }  // namespace
 
-const ShapeOps kCompoundOps{"compound",   support,         world_aabb, volume,
-                            unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kCompoundOps{"compound",      support, world_aabb,      volume,      unit_inertia,
+                            bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

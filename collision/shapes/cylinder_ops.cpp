@@ -80,9 +80,13 @@ Real signed_distance(const Shape& s, const Vec3& p) {
          std::min(std::max(dr, dz), Real(0));
 }
 
+Real inner_radius(const Shape& s) {
+  return std::min(s.radius, s.half_length);
+}
+
 }  // namespace
 
-const ShapeOps kCylinderOps{"cylinder",   support,         world_aabb, volume,
-                            unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kCylinderOps{"cylinder",      support, world_aabb,      volume,      unit_inertia,
+                            bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

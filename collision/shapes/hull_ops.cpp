@@ -106,9 +106,17 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return best;
 }
 
+// The centre of mass is inside: its distance to the nearest face plane.
+Real inner_radius(const Shape& s) {
+  Real inner = std::numeric_limits<Real>::infinity();
+  for (const HullFace& f : s.hull->faces())
+    inner = std::min(inner, f.offset);
+  return inner;
+}
+
 }  // namespace
 
-const ShapeOps kHullOps{"hull",       support,         world_aabb, volume,
-                        unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kHullOps{"hull",          support, world_aabb,      volume,      unit_inertia,
+                        bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

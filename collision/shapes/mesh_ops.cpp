@@ -82,9 +82,14 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return best;
 }
 
+// A surface without a solid, static only: never swept, never asked.
+Real inner_radius(const Shape&) {
+  return 0;
+}
+
 }  // namespace
 
-const ShapeOps kMeshOps{"mesh",       support,         world_aabb, volume,
-                        unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kMeshOps{"mesh",          support, world_aabb,      volume,      unit_inertia,
+                        bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

@@ -51,9 +51,14 @@ Real signed_distance(const Shape&, const Vec3& p) {
   return p.z();
 }
 
+// Static only: never swept, never asked.
+Real inner_radius(const Shape&) {
+  return 0;
+}
+
 }  // namespace
 
-const ShapeOps kPlaneOps{"plane",      support,         world_aabb, volume,
-                         unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kPlaneOps{"plane",         support, world_aabb,      volume,      unit_inertia,
+                         bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

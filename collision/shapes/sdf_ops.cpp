@@ -85,9 +85,14 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return s.sdf->distance(p, s.field_time);
 }
 
+// The largest ball inside, from the field's grid.
+Real inner_radius(const Shape& s) {
+  return s.sdf->inner_radius();
+}
+
 }  // namespace
 
-const ShapeOps kSdfOps{"sdf",        support,         world_aabb, volume,
-                       unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kSdfOps{"sdf",           support, world_aabb,      volume,      unit_inertia,
+                       bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

@@ -96,4 +96,8 @@ Real bounding_radius(const Shape& shape) {
   return shape_ops(shape.type).bounding_radius(shape);
 }
 
+Real inner_radius(const Shape& shape) {
+  return shape_ops(shape.type).inner_radius(shape);
+}
+
 }  // namespace tumble

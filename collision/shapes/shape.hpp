@@ -1,5 +1,5 @@
 // What the engine asks of a shape (include/tumble/shape.hpp describes the shapes): its support
-// point, bounding box, volume, inertia and bounding radius.
+// point, bounding box, volume, inertia, bounding radius and inner radius.
 #pragma once
 
 #include "collision/aabb.hpp"
@@ -26,5 +26,9 @@ Mat3 unit_inertia(const Shape& shape);
 // Radius of the smallest origin-centred sphere that holds the shape [m]; used to bound the
 // speed of surface points from linear and angular velocity.
 Real bounding_radius(const Shape& shape);
+
+// Radius of a ball about the centre of mass inside the shape [m] (0 for planes and meshes, which
+// are static); continuous collision sweeps a body that moves farther than it in a step.
+Real inner_radius(const Shape& shape);
 
 }  // namespace tumble

@@ -1,8 +1,8 @@
 // Everything the engine asks of a shape type, as one row of a table indexed by ShapeType: its
-// name, support point, bounding box, volume, inertia, bounding radius, ray cast and signed
-// distance. Each row is written in one file, collision/shapes/<type>_ops.cpp, so a new shape
-// type is one new row here (and one new row and column of pair functions in the narrow phase's
-// collide_table, collision/narrow_phase/narrow_phase.cpp); collision/shapes/shape.hpp and
+// name, support point, bounding box, volume, inertia, bounding radius, ray cast, signed distance
+// and inner radius. Each row is written in one file, collision/shapes/<type>_ops.cpp, so a new
+// shape type is one new row here (and one new row and column of pair functions in the narrow
+// phase's collide_table, collision/narrow_phase/narrow_phase.cpp); collision/shapes/shape.hpp and
 // collision/ccd/ray_cast.hpp call through the table.
 #pragma once
 
@@ -36,6 +36,9 @@ struct ShapeOps {
   ShapeRayHit (*ray)(const Shape& shape, const Vec3& origin, const Vec3& delta);
   // Signed distance of a local point to the surface (negative inside).
   Real (*signed_distance)(const Shape& shape, const Vec3& point);
+  // Radius of a ball about the local origin (the centre of mass) that lies inside the shape: how
+  // far the shape can move before it could pass through something thin (continuous collision).
+  Real (*inner_radius)(const Shape& shape);
 };
 
 const ShapeOps& shape_ops(ShapeType type);

@@ -40,9 +40,13 @@ Real signed_distance(const Shape& s, const Vec3& p) {
   return p.norm() - s.radius;
 }
 
+Real inner_radius(const Shape& s) {
+  return s.radius;
+}
+
 }  // namespace
 
-const ShapeOps kSphereOps{"sphere",     support,         world_aabb, volume,
-                          unit_inertia, bounding_radius, ray,        signed_distance};
+const ShapeOps kSphereOps{"sphere",        support, world_aabb,      volume,      unit_inertia,
+                          bounding_radius, ray,     signed_distance, inner_radius};
 
 }  // namespace tumble

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/shapes/shape.hpp"
 #include "collision/shapes/shape_ops.hpp"
 #include "tests/collision/oracle.hpp"
 
@@ -18,7 +19,7 @@ TEST(ShapeOps, OneRowPerTypeInTypeOrder) {
     EXPECT_EQ(row.name, names[t]);
     EXPECT_EQ(shape_type_name(static_cast<ShapeType>(t)), names[t]);
     EXPECT_TRUE(row.support && row.world_aabb && row.volume && row.unit_inertia &&
-                row.bounding_radius && row.ray && row.signed_distance)
+                row.bounding_radius && row.ray && row.signed_distance && row.inner_radius)
         << names[t];
   }
   EXPECT_EQ(shape_type_name(static_cast<ShapeType>(kShapeTypeCount)), "unknown");
@@ -42,6 +43,24 @@ TEST(ShapeOps, HullDistanceAgreesWithTriangleFansAndGjk) {
     }
   }
   EXPECT_GT(outside, 5000);
+}
+
+TEST(ShapeOps, InnerRadiusIsTheCentresDepthForConvexShapes) {
+  // For a convex solid the largest ball about the centre of mass reaches the nearest face: its
+  // radius is minus the signed distance there (the oracle's own distance, independent of the
+  // rows). A compound's is its thinnest part's.
+  testing::Rng rng(22);
+  for (ShapeType type : {ShapeType::sphere, ShapeType::box, ShapeType::capsule, ShapeType::cylinder,
+                         ShapeType::hull})
+    for (int trial = 0; trial < 500; ++trial) {
+      const Shape s = testing::random_shape(rng, type);
+      ASSERT_NEAR(inner_radius(s), -testing::local_signed_distance(s, Vec3::Zero()), 1e-12)
+          << shape_type_name(type) << " " << trial;
+    }
+  const Shape thin = Shape::box(Vec3(1, 1, 0.05));
+  const Shape compound = compound_from_parts(
+      {{Shape::sphere(0.5), Transform{}}, {thin, Transform{Vec3(0, 0, 1), Quat::Identity()}}});
+  EXPECT_DOUBLE_EQ(inner_radius(compound), 0.05);
 }
 
 }  // namespace
