@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
+#include <vector>
 
 #include "collision/ccd/ray_cast.hpp"
+#include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_tree.hpp"
 #include "tests/collision/oracle.hpp"
 #include "tumble/error.hpp"
@@ -325,6 +328,38 @@ TEST(SdfTree, AMorphIsTheTimeBlendOfItsTwoFields) {
       ASSERT_EQ(s.distance, sb.distance);  // after the end, the second alone
     }
   }
+}
+
+TEST(SdfTree, AMorphBetweenTwoGridsIsTheirTimeBlend) {
+  // Two grids of 5 cm cells: a sphere of 0.4 m and a box of half extents (0.5, 0.3, 0.2), both
+  // sampled from their exact fields, morphed over t in [0, 1].
+  const auto grid_of = [](auto&& exact) {
+    const Real cell = 0.05;
+    const int n = 33;
+    const Vec3 origin = Vec3::Constant(-cell * (n - 1) / 2);
+    std::vector<Real> values;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          values.push_back(exact(origin + cell * Vec3(Real(i), Real(j), Real(k))));
+    return SdfNode::from_grid(std::make_shared<const SdfGrid>(
+        origin, cell, std::array<int, 3>{n, n, n}, std::move(values)));
+  };
+  const SdfNode sphere = grid_of([](const Vec3& p) { return p.norm() - 0.4; });
+  const SdfNode box =
+      grid_of([](const Vec3& p) { return sdf::box(p, Vec3(0.5, 0.3, 0.2)).distance; });
+  const SdfTree morph(SdfNode::morph(sphere, box, 0, 1));
+  const SdfTree a(sphere), b(box);
+  std::mt19937_64 rng(72);
+  std::uniform_real_distribution<Real> u(-0.7, 0.7), when(0, 1);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const Real t = when(rng);
+    ASSERT_NEAR(morph.distance(p, t), (1 - t) * a.distance(p) + t * b.distance(p), 1e-15);
+  }
+  // Half-way, the surface crosses +x between the sphere's 0.4 m and the box's 0.5 m.
+  EXPECT_LT(morph.distance(Vec3(0.4, 0, 0), 0.5), 0);
+  EXPECT_GT(morph.distance(Vec3(0.5, 0, 0), 0.5), 0);
 }
 
 }  // namespace
