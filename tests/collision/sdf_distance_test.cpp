@@ -41,6 +41,53 @@ struct FieldCase {
   Shape round;
 };
 
+struct GradientTally {
+  int penetrating = 0;
+  int kinks = 0;       // the two one-sided slopes differ: a kink inside the step
+  int near_ridge = 0;  // a disagreement with the distance below `ridge`
+  int unexplained = 0;
+};
+
+// distance_between's gradients against central differences of step h on `count` random pose
+// pairs of the case, each of the 12 entries (both poses, translation then rotation).
+GradientTally tally_gradients(const FieldCase& c, std::mt19937_64& rng, int count, Real h,
+                              Real ridge = -std::numeric_limits<Real>::infinity()) {
+  std::uniform_real_distribution<Real> u(-1, 1);
+  const Shape field = sdf_shape(c.field);
+  GradientTally tally;
+  for (int i = 0; i < count; ++i) {
+    const Transform pose_b{Vec3(u(rng), u(rng), u(rng)) * 0.5, field_random_turn(rng)};
+    const Transform pose_a{pose_b.translation + Vec3(u(rng), u(rng), u(rng)) * 0.9,
+                           field_random_turn(rng)};
+    const ShapeDistance d = distance_between(c.round, pose_a, field, pose_b);
+    tally.penetrating += d.distance < 0 ? 1 : 0;
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < 6; ++k) {
+        const auto at = [&](Real step) {
+          return side == 0 ? distance_between(c.round, field_pose_moved(pose_a, k, step), field,
+                                              pose_b, false)
+                                 .distance
+                           : distance_between(c.round, pose_a, field,
+                                              field_pose_moved(pose_b, k, step), false)
+                                 .distance;
+        };
+        const Real plus = at(h), minus = at(-h);
+        const Real central = (plus - minus) / (2 * h);
+        const Real analytic = side == 0 ? d.gradient_a[k] : d.gradient_b[k];
+        if (std::abs(central - analytic) < 1e-5)
+          continue;
+        const Real forward = (plus - d.distance) / h, backward = (d.distance - minus) / h;
+        if (std::abs(forward - backward) > 1e-4)
+          ++tally.kinks;
+        else if (d.distance < ridge)
+          ++tally.near_ridge;
+        else
+          ++tally.unexplained;
+      }
+  }
+  return tally;
+}
+
 TEST(SdfDistance, GradientsMatchCentralDifferences) {
   const std::vector<FieldCase> cases = {
       {"sphere-torus", SdfNode::torus(0.6, 0.2), Shape::sphere(0.15)},
@@ -59,41 +106,9 @@ TEST(SdfDistance, GradientsMatchCentralDifferences) {
        Shape::capsule(0.08, 0.25)},
   };
   std::mt19937_64 rng(51);
-  std::uniform_real_distribution<Real> u(-1, 1);
   const int count = scaled(10000);
-  const Real h = 1e-6;
   for (const FieldCase& c : cases) {
-    const Shape field = sdf_shape(c.field);
-    int kinks = 0, unexplained = 0, penetrating = 0;
-    for (int i = 0; i < count; ++i) {
-      const Transform pose_b{Vec3(u(rng), u(rng), u(rng)) * 0.5, field_random_turn(rng)};
-      const Transform pose_a{pose_b.translation + Vec3(u(rng), u(rng), u(rng)) * 0.9,
-                             field_random_turn(rng)};
-      const ShapeDistance d = distance_between(c.round, pose_a, field, pose_b);
-      penetrating += d.distance < 0 ? 1 : 0;
-      for (int side = 0; side < 2; ++side)
-        for (int k = 0; k < 6; ++k) {
-          const auto at = [&](Real step) {
-            return side == 0 ? distance_between(c.round, field_pose_moved(pose_a, k, step), field,
-                                                pose_b, false)
-                                   .distance
-                             : distance_between(c.round, pose_a, field,
-                                                field_pose_moved(pose_b, k, step), false)
-                                   .distance;
-          };
-          const Real plus = at(h), minus = at(-h);
-          const Real central = (plus - minus) / (2 * h);
-          const Real analytic = side == 0 ? d.gradient_a[k] : d.gradient_b[k];
-          if (std::abs(central - analytic) < 1e-5)
-            continue;
-          // A kink inside the step: the two one-sided slopes differ.
-          const Real forward = (plus - d.distance) / h, backward = (d.distance - minus) / h;
-          if (std::abs(forward - backward) > 1e-4)
-            ++kinks;
-          else
-            ++unexplained;
-        }
-    }
+    const auto [penetrating, kinks, near_ridge, unexplained] = tally_gradients(c, rng, count, 1e-6);
     std::printf("%s: %d configurations, %d penetrating, %d kinks\n", c.name, count, penetrating,
                 kinks);
     EXPECT_EQ(unexplained, 0) << c.name;
@@ -133,46 +148,16 @@ TEST(SdfDistance, SolidsGradientsMatchCentralDifferences) {
       {"box-grid", torus_grid_node(), Shape::box(Vec3(0.12, 0.08, 0.06))},
   };
   std::mt19937_64 rng(53);
-  std::uniform_real_distribution<Real> u(-1, 1);
   // Each configuration is 25 descents; the instrumented run (TUMBLE_PROPERTY_SCALE < 1) checks
   // the memory of 400 of them (a quarter would take 80 s there).
   const int count = property_scale() < 1 ? 400 : 10000;
-  // The descent stops within about 1e-11 m of the least distance on a curved face (a cylinder's
-  // side), which a step of 1e-6 would turn into 1e-5 of slope: the differences step 1e-5.
-  const Real h = 1e-5;
   for (const FieldCase& c : cases) {
-    const Shape field = sdf_shape(c.field);
-    int kinks = 0, unexplained = 0, penetrating = 0, near_ridge = 0;
-    for (int i = 0; i < count; ++i) {
-      const Transform pose_b{Vec3(u(rng), u(rng), u(rng)) * 0.5, field_random_turn(rng)};
-      const Transform pose_a{pose_b.translation + Vec3(u(rng), u(rng), u(rng)) * 0.9,
-                             field_random_turn(rng)};
-      const ShapeDistance d = distance_between(c.round, pose_a, field, pose_b);
-      penetrating += d.distance < 0 ? 1 : 0;
-      for (int side = 0; side < 2; ++side)
-        for (int k = 0; k < 6; ++k) {
-          const auto at = [&](Real step) {
-            return side == 0 ? distance_between(c.round, field_pose_moved(pose_a, k, step), field,
-                                                pose_b, false)
-                                   .distance
-                             : distance_between(c.round, pose_a, field,
-                                                field_pose_moved(pose_b, k, step), false)
-                                   .distance;
-          };
-          const Real plus = at(h), minus = at(-h);
-          const Real central = (plus - minus) / (2 * h);
-          const Real analytic = side == 0 ? d.gradient_a[k] : d.gradient_b[k];
-          if (std::abs(central - analytic) < 1e-5)
-            continue;
-          const Real forward = (plus - d.distance) / h, backward = (d.distance - minus) / h;
-          if (std::abs(forward - backward) > 1e-4)
-            ++kinks;
-          else if (d.distance < -0.2 + 2e-3)
-            ++near_ridge;  // within 2 mm of the torus's core ridge: phi is a cone there
-          else
-            ++unexplained;
-        }
-    }
+    // The descent stops within about 1e-11 m of the least distance on a curved face (a
+    // cylinder's side), which a step of 1e-6 would turn into 1e-5 of slope: the differences
+    // step 1e-5. Within 2 mm of the torus's core ridge phi is a cone, and the descent's point
+    // inexact: counted apart.
+    const auto [penetrating, kinks, near_ridge, unexplained] =
+        tally_gradients(c, rng, count, 1e-5, -0.2 + 2e-3);
     std::printf(
         "%s: %d configurations, %d penetrating, %d kinks, %d near the ridge, %d unexplained\n",
         c.name, count, penetrating, kinks, near_ridge, unexplained);
