@@ -1001,16 +1001,29 @@ void Simulation::choose_substeps() {
     if (masses_[i].inverse_mass > 0)
       island_mass_[root] += 1 / masses_[i].inverse_mass;
   }
+  // Per island root and level L (row root * levels): how many of its contacts need L or more
+  // (column 0 counts every contact of the island), and the level the weights on its contacts
+  // need.
+  const std::size_t levels = std::size_t(top_level) + 1;
+  contacts_wanting_.assign(n * levels, 0);
+  weighed_level_.assign(n, 0);
   const std::span<const ContactLoad> load = solver_.contact_loads();
   if (!w.contact_hertz) {
     constexpr Real kPi = std::numbers::pi_v<Real>;
     const Real gravity = w.gravity.norm();
+    const auto level_for = [&](Real needed_substeps) {
+      int level = 0;
+      while (level < top_level && Real(base << level) < needed_substeps)
+        ++level;
+      return level;
+    };
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
       const PairContact& pc = contacts_[c];
       const bool a_static = model_->is_fixed(std::size_t(pc.body_a));
       const bool b_static = model_->is_fixed(std::size_t(pc.body_b));
       const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
       const std::size_t root = std::size_t(islands_.root(moving));
+      ++contacts_wanting_[root * levels];
       const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
                                             : bounding_radii_[std::size_t(pc.body_a)],
                                    b_static ? bounding_radii_[std::size_t(pc.body_a)]
@@ -1029,17 +1042,32 @@ void Simulation::choose_substeps() {
                                  sb.velocity - sb.angular_velocity.cross(p - sb.position));
       const bool resting = std::abs(approach) <= w.restitution_threshold;
       const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
-      const Real needed_load =
-          std::max(load[c].weight, resting ? std::min(load[c].warm, at_rest) : Real(0));
-      if (!(needed_load > 0))
-        continue;
+      const Real warm = resting ? std::min(load[c].warm, at_rest) : Real(0);
       // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
       const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
-      const Real needed = per_substep * std::sqrt(needed_load / tolerance);
-      std::uint8_t& level = level_needed_[root];
-      while (level < top_level && Real(base << level) < needed)
-        ++level;
+      const int weighed = level_for(per_substep * std::sqrt(load[c].weight / tolerance));
+      weighed_level_[root] = std::max(weighed_level_[root], std::uint8_t(weighed));
+      const int wanted =
+          level_for(per_substep * std::sqrt(std::max(load[c].weight, warm) / tolerance));
+      for (int level = 1; level <= wanted; ++level)
+        ++contacts_wanting_[root * levels + std::size_t(level)];
     }
+  }
+  // An island takes the level that all its contacts but one in kSagOutliers find stiff enough
+  // (all of them in an island of fewer than kSagOutliers contacts): in a pile of thousands a few
+  // contacts always carry a passing spike of their warm-started loads. The weight of a body on
+  // another is no spike, so the contact that needs the most for it counts wherever it is (a
+  // heavy box on a light one in a large island).
+  constexpr std::int32_t kSagOutliers = 100;
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::int32_t* wanting = &contacts_wanting_[r * levels];
+    const std::int32_t enough = 1 + wanting[0] / kSagOutliers;
+    std::uint8_t wanted = 0;
+    for (std::size_t level = 1; level < levels; ++level) {
+      if (wanting[level] >= enough)
+        wanted = std::uint8_t(level);
+    }
+    level_needed_[r] = std::max(wanted, weighed_level_[r]);
   }
   // Up at once; down one level at a time, and only after kSubstepHold steps of needing less, so
   // that a load near a boundary does not switch the spring's stiffness back and forth (each
@@ -1213,8 +1241,8 @@ WorldMemory Simulation::memory() const {
                  bytes(model_->masses()) + bytes(model_->bounding_radii()) + bytes(shape_poses_) +
                  bytes(carries_) + bytes(speculative_margin_) + bytes(group_bodies_) +
                  bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
-                 bytes(hold_before_) + bytes(island_mass_) + bytes(island_awake_) +
-                 bytes(island_slow_time_);
+                 bytes(hold_before_) + bytes(contacts_wanting_) + bytes(weighed_level_) +
+                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
   m.contact_bytes = bytes(state_.contacts) + bytes(candidate_pairs_) + bytes(box_queries_) +
                     bytes(box_manifolds_) + bytes(contacts_) + bytes(penalty_springs_) +
                     bytes(group_of_contact_) + solver_.bytes_reserved();

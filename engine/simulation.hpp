@@ -229,6 +229,8 @@ class Simulation {
   std::vector<std::int32_t> substeps_of_root_;  // per island root: its substeps this step
   std::vector<std::int32_t> group_fill_;        // scratch
   std::vector<std::uint8_t> level_needed_, level_before_, hold_before_;  // per island root
+  std::vector<std::int32_t> contacts_wanting_;  // per island root and substep level
+  std::vector<std::uint8_t> weighed_level_;     // per island root
   std::vector<Real> island_mass_;
   PenaltySolver penalty_solver_;
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
