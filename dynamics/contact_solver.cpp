@@ -149,17 +149,21 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& cp = pc.manifold.points[std::size_t(k)];
     PointRecord& p = m.points[std::size_t(k)];
-    p.r_a = cp.position - sa.position;
-    p.r_b = cp.position - sb.position;
-    rn_a[std::size_t(k)] = p.r_a.cross(m.normal);
-    rn_b[std::size_t(k)] = p.r_b.cross(m.normal);
+    // Worked in locals and stored once: read back from the record, the lever arms' stores
+    // stalled the loads that followed them (a load spanning two stores is not forwarded).
+    const Vec3 r_a = cp.position - sa.position;
+    const Vec3 r_b = cp.position - sb.position;
+    rn_a[std::size_t(k)] = r_a.cross(m.normal);
+    rn_b[std::size_t(k)] = r_b.cross(m.normal);
+    p.r_a = r_a;
+    p.r_b = r_b;
     p.in_a = ia * rn_a[std::size_t(k)];
     p.in_b = ib * rn_b[std::size_t(k)];
-    p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent1);
-    p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, p.r_a, p.r_b, m.tangent2);
+    p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent1);
+    p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent2);
     p.base_separation = -cp.depth;
     p.feature = cp.feature.key();
-    p.local_a = sa.orientation.conjugate() * p.r_a;
+    p.local_a = sa.orientation.conjugate() * r_a;
   }
   for (int i = 0; i < m.count; ++i) {
     for (int j = 0; j <= i; ++j) {

@@ -39,8 +39,9 @@ struct WorldSettings {
   // The solver runs at least `substeps` substeps of dt / substeps per step; collision runs once
   // per step. Each substep: gravity, warm start, `iterations` soft passes, positions,
   // `relax_iterations` rigid passes (design: docs/architecture.md). An island whose contacts
-  // carry a load that would sag them deeper than `sag_tolerance` takes more substeps, doubling
-  // up to `max_substeps` ("Substeps per island" there).
+  // carry a load that would sag them deeper than `sag_tolerance` (all but one in a hundred, and
+  // every one a body's weight loads) takes more substeps, doubling up to `max_substeps`
+  // ("Substeps per island" there).
   int substeps = 4;
   int max_substeps = 64;
   SolverType solver = SolverType::impulse;
