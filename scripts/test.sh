@@ -4,7 +4,23 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# Each part's wall time, printed at the end (CI runs this on 2 cores and should stay under 35
+# minutes).
+parts=()
+part_start=$SECONDS
+finish_part() {
+  parts+=("$(printf '%5d s  %s' $((SECONDS - part_start)) "$1")")
+  part_start=$SECONDS
+}
+print_parts() {
+  echo "== time per part =="
+  printf '%s\n' "${parts[@]}"
+  echo "$(printf '%5d s  total' "$SECONDS")"
+}
+trap print_parts EXIT
+
 bash scripts/setup-debian.sh
+finish_part "setup"
 jobs=$(nproc)
 # The Debian interpreter, whose numpy and pytest the setup installed (a python3 earlier on PATH,
 # such as pyenv's, may have neither).
@@ -16,7 +32,9 @@ if [ -x /usr/bin/python3 ]; then python=(-DPython3_EXECUTABLE=/usr/bin/python3);
 echo "== release build and tests =="
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DTUMBLE_UNITY_TESTS=ON "${python[@]}"
 cmake --build build/release -j "$jobs"
+finish_part "release build"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
+finish_part "release tests (C++ and Python)"
 
 echo "== sanitizer build (address, undefined) and tests =="
 # -O1 with line tables only: the instrumented build is the longest part of the run, and at -O2
@@ -26,8 +44,10 @@ cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DTUMBLE_SANITIZE=ON \
   -DTUMBLE_BUILD_BENCHMARKS=OFF -DTUMBLE_UNITY_TESTS=ON "${python[@]}"
 cmake --build build/sanitize -j "$jobs"
+finish_part "sanitizer build"
 # The broad-phase property tests run a quarter of their random steps here (see
 # tests/broad_phase/broad_phase_property.hpp): every path is still exercised under the sanitizers.
 TUMBLE_PROPERTY_SCALE=0.25 \
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/sanitize --output-on-failure -j "$jobs"
+finish_part "sanitizer tests"
