@@ -55,6 +55,7 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   const std::size_t n = scene.bodies.size();
   thickness_.resize(n);
   radius_.resize(n);
+  turning_radius_.resize(n);
   swept_.resize(n);
   earliest_.resize(n);
   hit_partner_.resize(n);
@@ -68,6 +69,9 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
     const BodyDesc& d = scene.bodies[i];
     thickness_[i] = inner_radius(d.shape);
     radius_[i] = d.shape.is_bounded() ? bounding_radius(d.shape) : Real(0);
+    // A sphere turning about its centre fills the same space: only its centre's motion can
+    // carry it through something (a rolling ball is not swept for its spin).
+    turning_radius_[i] = d.shape.type == ShapeType::sphere ? Real(0) : radius_[i];
     if (!d.is_static && scene.world.ccd != CcdMode::off)
       enabled_ = true;
   }
@@ -99,7 +103,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     }
     motions_[i] = step_motion(start[i], bodies[i], scene.world.dt);
     const RigidMotion& m = motions_[i];
-    const Real travel = m.centre_speed() + m.angular_velocity().norm() * radius_[i];
+    const Real travel = m.centre_speed() + m.angular_velocity().norm() * turning_radius_[i];
     // A kinematic body moves where it is told: it is an obstacle to the swept bodies, never
     // stopped itself.
     if (mode != CcdMode::off && !d.kinematic &&

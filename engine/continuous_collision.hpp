@@ -14,7 +14,8 @@
 //
 // Which bodies are swept (the scene's `ccd`): `off` none; `on` every dynamic body; `auto` the
 // bodies marked `fast: true` and those whose surface moves more than kAutoSweepFraction of
-// their thickness in the step (thickness: sphere and capsule radius, smallest box half extent).
+// their thickness in the step (thickness: sphere and capsule radius, smallest box half extent;
+// a sphere's spin moves no part of the space it fills, so only its centre's motion counts).
 //
 // How the rest of the step is kept: time stealing. The body is put at its pose at the time of
 // impact (a small gap before contact); the rest of its motion in this step is given up. The
@@ -110,6 +111,7 @@ class ContinuousCollision {
   PairSearch pair_search_ = PairSearch::automatic;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
+  std::vector<Real> turning_radius_;  // how far a turn of one radian moves the space a body fills
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
   // Of each swept body's earliest hit: the other body (the lower index among hits at the same

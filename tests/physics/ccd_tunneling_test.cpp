@@ -12,9 +12,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <utility>
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
@@ -105,6 +107,32 @@ TEST(NoTunneling, CentimetreSphereAt1000MetresPerSecondNeverCrossesACentimetreWa
   std::printf("sphere at 1000 m/s vs 1 cm wall: %d of %d through with ccd, %d of %d without\n",
               swept, cases, unswept, std::min(cases, 200));
   EXPECT_EQ(swept, 0);
+}
+
+// A sphere's spin moves no part of the space it fills: a 1 cm ball spinning at 1000 rad/s (its
+// surface moves 8 cm a step, 33 times the sweep threshold) while it drifts at 0.1 m/s is never
+// swept, and the same ball flying at 1000 m/s with the same spin is swept and stops at the wall.
+TEST(NoTunneling, ASpheresSpinAloneIsNotSweptButItsFlightIs) {
+  const auto run = [](const Vec3& velocity, int steps) {
+    Scene s = empty_scene(CcdMode::automatic);
+    BodyDesc ball = fast_body(Shape::sphere(0.005), Vec3(-0.5, 0, 0), velocity);
+    ball.angular_velocity = Vec3(0, 1000, 0);
+    s.bodies.push_back(ball);
+    s.bodies.push_back(static_box("wall", Vec3(0.005, 2, 2), Vec3::Zero()));
+    Simulation world(std::make_shared<const Scene>(std::move(s)));
+    std::int64_t swept = 0;
+    for (int k = 0; k < steps; ++k) {
+      world.step();
+      swept += world.last_step_statistics().swept_bodies;
+    }
+    return std::pair{swept, world.state().bodies[0].position.x()};
+  };
+  const auto [drifting_swept, drifting_x] = run(Vec3(0.1, 0, 0), 60);
+  EXPECT_EQ(drifting_swept, 0);
+  EXPECT_GT(drifting_x, -0.5);  // it moved
+  const auto [flying_swept, flying_x] = run(Vec3(1000, 0, 0), 3);
+  EXPECT_GT(flying_swept, 0);
+  EXPECT_LT(flying_x, 0);  // stopped on the near side of the wall's mid-plane
 }
 
 // Centimetre bullets of the shapes swept by GJK-based conservative advancement: a cylinder, a
