@@ -56,6 +56,7 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   thickness_.resize(n);
   radius_.resize(n);
   turning_radius_.resize(n);
+  about_own_axis_.resize(n);
   swept_.resize(n);
   earliest_.resize(n);
   hit_partner_.resize(n);
@@ -69,9 +70,12 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
     const BodyDesc& d = scene.bodies[i];
     thickness_[i] = inner_radius(d.shape);
     radius_[i] = d.shape.is_bounded() ? bounding_radius(d.shape) : Real(0);
-    // A sphere turning about its centre fills the same space: only its centre's motion can
-    // carry it through something (a rolling ball is not swept for its spin).
+    // A sphere turning about its centre fills the same space, and so does a capsule or a
+    // cylinder turning about its own axis: that part of a turn cannot carry the body through
+    // anything (a ball or a log rolling down a slope is not swept for its roll).
     turning_radius_[i] = d.shape.type == ShapeType::sphere ? Real(0) : radius_[i];
+    about_own_axis_[i] =
+        d.shape.type == ShapeType::capsule || d.shape.type == ShapeType::cylinder ? 1 : 0;
     if (!d.is_static && scene.world.ccd != CcdMode::off)
       enabled_ = true;
   }
@@ -103,7 +107,12 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     }
     motions_[i] = step_motion(start[i], bodies[i], scene.world.dt);
     const RigidMotion& m = motions_[i];
-    const Real travel = m.centre_speed() + m.angular_velocity().norm() * turning_radius_[i];
+    Vec3 turn = m.angular_velocity();
+    if (about_own_axis_[i] != 0) {
+      const Vec3 axis = start[i].rotation * Vec3::UnitZ();
+      turn -= axis * turn.dot(axis);
+    }
+    const Real travel = m.centre_speed() + turn.norm() * turning_radius_[i];
     // A kinematic body moves where it is told: it is an obstacle to the swept bodies, never
     // stopped itself.
     if (mode != CcdMode::off && !d.kinematic &&

@@ -15,7 +15,8 @@
 // Which bodies are swept (the scene's `ccd`): `off` none; `on` every dynamic body; `auto` the
 // bodies marked `fast: true` and those whose surface moves more than kAutoSweepFraction of
 // their thickness in the step (thickness: sphere and capsule radius, smallest box half extent;
-// a sphere's spin moves no part of the space it fills, so only its centre's motion counts).
+// a sphere's spin, and a capsule's or cylinder's about its own axis, moves no part of the space
+// it fills, so that part of the turn does not count).
 //
 // How the rest of the step is kept: time stealing. The body is put at its pose at the time of
 // impact (a small gap before contact); the rest of its motion in this step is given up. The
@@ -112,6 +113,7 @@ class ContinuousCollision {
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
   std::vector<Real> turning_radius_;  // how far a turn of one radian moves the space a body fills
+  std::vector<std::uint8_t> about_own_axis_;  // 1: turning about local z moves none of it
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
   // Of each swept body's earliest hit: the other body (the lower index among hits at the same

@@ -109,15 +109,17 @@ TEST(NoTunneling, CentimetreSphereAt1000MetresPerSecondNeverCrossesACentimetreWa
   EXPECT_EQ(swept, 0);
 }
 
-// A sphere's spin moves no part of the space it fills: a 1 cm ball spinning at 1000 rad/s (its
-// surface moves 8 cm a step, 33 times the sweep threshold) while it drifts at 0.1 m/s is never
-// swept, and the same ball flying at 1000 m/s with the same spin is swept and stops at the wall.
-TEST(NoTunneling, ASpheresSpinAloneIsNotSweptButItsFlightIs) {
-  const auto run = [](const Vec3& velocity, int steps) {
+// A sphere's spin, and a capsule's turn about its own axis, move no part of the space the body
+// fills: a 1 cm ball spinning at 1000 rad/s (its surface moves 8 cm a step, 33 times the sweep
+// threshold) while it drifts at 0.1 m/s is never swept, nor is a capsule spinning so about its
+// axis, while the capsule turning end over end at that rate is, and the ball flying at 1000 m/s
+// with the same spin is swept and stops at the wall.
+TEST(NoTunneling, ASpinThatMovesNoPartOfTheBodysSpaceIsNotSwept) {
+  const auto run = [](const Shape& shape, const Vec3& velocity, const Vec3& spin, int steps) {
     Scene s = empty_scene(CcdMode::automatic);
-    BodyDesc ball = fast_body(Shape::sphere(0.005), Vec3(-0.5, 0, 0), velocity);
-    ball.angular_velocity = Vec3(0, 1000, 0);
-    s.bodies.push_back(ball);
+    BodyDesc body = fast_body(shape, Vec3(-0.5, 0, 0), velocity);
+    body.angular_velocity = spin;
+    s.bodies.push_back(body);
     s.bodies.push_back(static_box("wall", Vec3(0.005, 2, 2), Vec3::Zero()));
     Simulation world(std::make_shared<const Scene>(std::move(s)));
     std::int64_t swept = 0;
@@ -127,10 +129,15 @@ TEST(NoTunneling, ASpheresSpinAloneIsNotSweptButItsFlightIs) {
     }
     return std::pair{swept, world.state().bodies[0].position.x()};
   };
-  const auto [drifting_swept, drifting_x] = run(Vec3(0.1, 0, 0), 60);
-  EXPECT_EQ(drifting_swept, 0);
-  EXPECT_GT(drifting_x, -0.5);  // it moved
-  const auto [flying_swept, flying_x] = run(Vec3(1000, 0, 0), 3);
+  const Shape ball = Shape::sphere(0.005);
+  const Shape capsule = Shape::capsule(0.005, 0.01);
+  const Vec3 drift(0.1, 0, 0);
+  const auto [ball_swept, ball_x] = run(ball, drift, Vec3(0, 1000, 0), 60);
+  EXPECT_EQ(ball_swept, 0);
+  EXPECT_GT(ball_x, -0.5);  // it moved
+  EXPECT_EQ(run(capsule, drift, Vec3(0, 0, 1000), 60).first, 0);
+  EXPECT_GT(run(capsule, drift, Vec3(0, 1000, 0), 1).first, 0);
+  const auto [flying_swept, flying_x] = run(ball, Vec3(1000, 0, 0), Vec3(0, 1000, 0), 3);
   EXPECT_GT(flying_swept, 0);
   EXPECT_LT(flying_x, 0);  // stopped on the near side of the wall's mid-plane
 }
