@@ -14,6 +14,7 @@
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/sdf_shape.hpp"
 #include "tests/collision/closed_meshes.hpp"
+#include "tests/collision/sampled_grid.hpp"
 #include "tumble/distance.hpp"
 
 namespace tumble {
@@ -99,12 +100,8 @@ void run_grid(benchmark::State& state, GridInterpolation how) {
   const Real cell = 0.02, half = 0.65;
   const int n = int(2 * half / cell) + 1, nz = int(2 * 0.25 / cell) + 1;
   const Vec3 origin(-half, -half, -0.25);
-  std::vector<Real> values;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        values.push_back(sdf::torus(origin + cell * Vec3(i, j, k), 0.4, 0.15).distance);
-  const SdfGrid grid(origin, cell, {n, n, nz}, std::move(values));
+  const SdfGrid grid = test::sampled_grid(
+      origin, cell, {n, n, nz}, [](const Vec3& p) { return sdf::torus(p, 0.4, 0.15).distance; });
   run_near_torus(state, [&](const Vec3& p) { return grid.sample(p, how); });
 }
 void BM_SdfGridTrilinear(benchmark::State& state) {

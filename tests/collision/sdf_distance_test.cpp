@@ -11,6 +11,7 @@
 
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/shapes/sdf_shape.hpp"
+#include "tests/collision/sampled_grid.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/distance.hpp"
 #include "tumble/error.hpp"
@@ -123,14 +124,9 @@ SdfNode torus_grid_node() {
   const Real cell = 0.04;
   const int n = 96;
   const Vec3 origin = Vec3::Constant(-cell * (n - 1) / 2);
-  std::vector<Real> values;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        values.push_back(
-            sdf::torus(origin + cell * Vec3(Real(i), Real(j), Real(k)), 0.6, 0.2).distance);
   return SdfNode::from_grid(
-      std::make_shared<const SdfGrid>(origin, cell, std::array<int, 3>{n, n, n}, std::move(values)),
+      std::make_shared<const SdfGrid>(test::sampled_grid(
+          origin, cell, {n, n, n}, [](const Vec3& p) { return sdf::torus(p, 0.6, 0.2).distance; })),
       GridInterpolation::tricubic);
 }
 

@@ -11,6 +11,7 @@
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 #include "tests/collision/closed_meshes.hpp"
+#include "tests/collision/sampled_grid.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/error.hpp"
 
@@ -86,13 +87,8 @@ SdfGrid torus_grid(int cells) {
   const Real cell = 2 * half / cells;
   std::array<int, 3> n{cells + 1, cells + 1, int(std::ceil(2 * (minor + 0.1) / cell)) + 1};
   const Vec3 origin(-half, -half, -(n[2] - 1) * cell / 2);
-  std::vector<Real> values;
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i)
-        values.push_back(
-            sdf::torus(origin + cell * Vec3(Real(i), Real(j), Real(k)), major, minor).distance);
-  return SdfGrid(origin, cell, n, std::move(values));
+  return test::sampled_grid(origin, cell, n,
+                            [&](const Vec3& p) { return sdf::torus(p, major, minor).distance; });
 }
 
 TEST(SdfGrid, GradientsAreThoseOfTheInterpolant) {

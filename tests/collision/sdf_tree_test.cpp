@@ -15,6 +15,7 @@
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/sdf/sdf_tree.hpp"
 #include "tests/collision/oracle.hpp"
+#include "tests/collision/sampled_grid.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -337,13 +338,8 @@ TEST(SdfTree, AMorphBetweenTwoGridsIsTheirTimeBlend) {
     const Real cell = 0.05;
     const int n = 33;
     const Vec3 origin = Vec3::Constant(-cell * (n - 1) / 2);
-    std::vector<Real> values;
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          values.push_back(exact(origin + cell * Vec3(Real(i), Real(j), Real(k))));
-    return SdfNode::from_grid(std::make_shared<const SdfGrid>(
-        origin, cell, std::array<int, 3>{n, n, n}, std::move(values)));
+    return SdfNode::from_grid(
+        std::make_shared<const SdfGrid>(test::sampled_grid(origin, cell, {n, n, n}, exact)));
   };
   const SdfNode sphere = grid_of([](const Vec3& p) { return p.norm() - 0.4; });
   const SdfNode box =
