@@ -39,6 +39,11 @@ struct Manifold {
   Vec3 normal = Vec3::UnitZ();  // from B to A
   int count = 0;
   std::array<ContactPoint, kMaxManifoldPoints> points{};
+  // How the separation bends as A moves relative to B: its second derivative with respect to
+  // that displacement (world; xx, xy, xz, yy, yz, zz) [1/m]. Zero but where a round shape's core
+  // is measured in a curved field; there the solver follows the surface through the step
+  // instead of its tangent plane (docs/architecture.md, "Curved contacts").
+  std::array<Real, 6> separation_curvature{};
 
   void add(const Vec3& position, Real depth, FeatureId feature) {
     if (count < kMaxManifoldPoints)

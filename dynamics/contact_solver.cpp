@@ -41,6 +41,24 @@ ContactSolver::Coefficients coefficients_of(const ContactSolverSettings& setting
   return k;
 }
 
+// The curvature of a curved contact's separation along the direction the pair slides (the
+// tangential part of `relative_velocity`, the centres' relative velocity), or the mean of the
+// tangent plane's when it does not slide: the one number the passes need to follow the surface
+// through the step (docs/architecture.md, "Curved contacts").
+Real sliding_curvature(const Manifold& manifold, const Vec3& relative_velocity) {
+  const std::array<Real, 6>& c = manifold.separation_curvature;
+  if (c == std::array<Real, 6>{})
+    return 0;
+  Mat3 h;
+  h << c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5];
+  const Vec3& n = manifold.normal;
+  const Vec3 sliding = relative_velocity - relative_velocity.dot(n) * n;
+  const Real speed_squared = sliding.squaredNorm();
+  if (speed_squared > Real(1e-24))
+    return sliding.dot(h * sliding) / speed_squared;
+  return (h.trace() - n.dot(h * n)) / 2;
+}
+
 // Work per chunk: enough that a chunk outweighs handing it to a thread (about a microsecond).
 constexpr std::int32_t kRecordsPerChunk = 64;
 constexpr std::int32_t kBundlesPerChunk = 16;
@@ -140,6 +158,7 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   m.restitution = pc.restitution;
   const BodyState& sa = bodies[std::size_t(a)];
   const BodyState& sb = bodies[std::size_t(b)];
+  m.curvature = sliding_curvature(pc.manifold, sa.velocity - sb.velocity);
   const Mat3& ia = inverse_inertia_world[std::size_t(a)];
   const Mat3& ib = inverse_inertia_world[std::size_t(b)];
   m.inv_inertia_a = {ia(0, 0), ia(0, 1), ia(0, 2), ia(1, 1), ia(1, 2), ia(2, 2)};

@@ -188,6 +188,9 @@ class ContactSolver {
     // Simulation inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
     std::array<Real, 6> inv_inertia_a{}, inv_inertia_b{};
     Real friction = 0, restitution = 0;
+    // The separation's second derivative along the pair's sliding direction at the start of the
+    // step [1/m]; 0 for a flat contact (the manifold's separation_curvature, "Curved contacts").
+    Real curvature = 0;
     // J M^-1 J^T over the normal rows, lower triangle packed row by row: (0,0), (1,0), (1,1),
     // (2,0), (2,1), (2,2), (3,0), ...
     std::array<Real, 10> delassus{};

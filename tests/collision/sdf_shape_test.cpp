@@ -206,5 +206,56 @@ TEST(SdfContact, TwoFieldSpheresHaveTheExactDepth) {
   EXPECT_LT(worst, 1e-6) << "largest depth error " << worst << " m";
 }
 
+TEST(SdfContact, ABallsSeparationBendsAsTheNarrowPhaseMeasuresIt) {
+  // The manifold's separation_curvature against second differences of the narrow phase's own
+  // separation (minus the depth) as the ball moves, around a placed, turned torus: outside its
+  // ring the surface curves away from the ball both ways, inside the hole it is a saddle.
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<Real> u(0, 1);
+  const Real major = 0.6, minor = 0.3, radius = 0.1;
+  const Shape field = sdf_shape(SdfNode::torus(major, minor));
+  const Shape ball = Shape::sphere(radius);
+  const Transform pose_b{Vec3(0.4, -0.3, 0.2), field_test_rotation(rng)};
+  const auto separation = [&](const Vec3& centre) {
+    Manifold m;
+    const int n = collide(ball, Transform{centre, Quat::Identity()}, field, pose_b, 0.05, m);
+    EXPECT_EQ(n, 1);
+    return -deepest_point_depth(m, n);
+  };
+  const int cases = scaled(2000);
+  const Real step = 1e-4;
+  Real worst = 0;
+  int saddles = 0;
+  for (int i = 0; i < cases; ++i) {
+    const Real around = 2 * kPiForFields * u(rng), tube = 2 * kPiForFields * u(rng);
+    const Vec3 radial(std::cos(around), std::sin(around), 0);
+    const Vec3 normal = std::cos(tube) * radial + std::sin(tube) * Vec3::UnitZ();
+    const Real depth = 0.03 * u(rng) - 0.01;
+    const Vec3 centre = pose_b.apply(major * radial + (minor + radius - depth) * normal);
+    Manifold m;
+    ASSERT_EQ(collide(ball, Transform{centre, Quat::Identity()}, field, pose_b, 0.05, m), 1);
+    const std::array<Real, 6>& c = m.separation_curvature;
+    Mat3 reported;
+    reported << c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5];
+    Mat3 measured;
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 er = Vec3::Unit(r) * step, ek = Vec3::Unit(k) * step;
+        measured(r, k) = (separation(centre + er + ek) - separation(centre + er - ek) -
+                          separation(centre - er + ek) + separation(centre - er - ek)) /
+                         (4 * step * step);
+      }
+    }
+    worst = std::max(worst, (reported - measured).norm() / measured.norm());
+    // No bend along the normal, where the separation grows one for one, but what the gradient's
+    // differences a quarter of the radius apart make of it.
+    EXPECT_LT((reported * m.normal).norm(), 5e-3 * measured.norm());
+    if (std::cos(tube) < -0.5)
+      ++saddles;
+  }
+  EXPECT_LT(worst, 0.01) << "largest relative error " << worst;
+  EXPECT_GT(saddles, cases / 5);
+}
+
 }  // namespace
 }  // namespace tumble

@@ -296,6 +296,30 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
   }
 }
 
+// R S R^T for a symmetric S packed as xx, xy, xz, yy, yz, zz.
+std::array<Real, 6> rotated_symmetric(const Quat& rotation, const std::array<Real, 6>& s) {
+  Mat3 m;
+  m << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
+  const Mat3 r = rotation.toRotationMatrix();
+  const Mat3 turned = r * m * r.transpose();
+  return {turned(0, 0), turned(0, 1), turned(0, 2), turned(1, 1), turned(1, 2), turned(2, 2)};
+}
+
+// The field's second derivatives at x (xx, xy, xz, yy, yz, zz), by central differences of its
+// gradient `step` apart, symmetrised. Where the field has a ridge between the samples (a kink of
+// a CSG union or difference) the differences say so with a large value; the caller bounds it.
+std::array<Real, 6> field_hessian(const SdfShape& field, const Vec3& x, Real time, Real step) {
+  Mat3 columns;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 offset = Vec3::Unit(i) * step;
+    columns.col(i) =
+        (field.sample(x + offset, time).gradient - field.sample(x - offset, time).gradient) /
+        (2 * step);
+  }
+  const Mat3 h = (columns + columns.transpose()) * Real(0.5);
+  return {h(0, 0), h(0, 1), h(0, 2), h(1, 1), h(1, 2), h(2, 2)};
+}
+
 // A (sphere, box, capsule, plane, cylinder, hull) against the SDF B, in B's frame.
 int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real time,
                        Real margin, Manifold& out) {
@@ -308,6 +332,8 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
   const bool round = a.type == ShapeType::sphere || a.type == ShapeType::capsule;
   const bool direct = round && a.radius + margin < field.reach();
   // Kind 1: A's points in B's field.
+  Vec3 deepest_core = Vec3::Zero();
+  Real deepest = -std::numeric_limits<Real>::infinity();
   if (direct) {
     const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
     const int n = a.type == ShapeType::capsule
@@ -320,6 +346,10 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
       const Real depth = a.radius - s.distance;
       if (!(depth >= -margin))
         continue;
+      if (depth > deepest) {
+        deepest = depth;
+        deepest_core = c;
+      }
       const Vec3 normal = normalized_or(s.gradient, Vec3::UnitZ());
       collector.add(normal, c - normal * a.radius, depth,
                     {a.type == ShapeType::capsule
@@ -354,8 +384,28 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
           collector.add(n, x - n * depth, depth, {kSdfSurface, id});
         });
   }
-  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
-                          ContactCollector::NormalRule::weighted_mean);
+  const int count =
+      collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
+                       ContactCollector::NormalRule::weighted_mean);
+  if (direct && count > 0) {
+    // The core's separation is phi - radius, so it bends as phi does. Differences a quarter of
+    // the radius (or of a cell) apart resolve any surface the ball fits in; a kink between
+    // them reads as a curvature of up to 2 / step, which is bounded to the sharpest a surface
+    // the core can follow may have (1 / step).
+    const Real step = Real(0.25) * std::min(a.radius, field.cell_size());
+    std::array<Real, 6> h = field_hessian(field, deepest_core, time, step);
+    Real squared = 0;
+    for (int k = 0; k < 6; ++k)
+      squared += (k == 1 || k == 2 || k == 4 ? 2 : 1) * h[std::size_t(k)] * h[std::size_t(k)];
+    const Real limit = 1 / step;
+    if (!(squared <= limit * limit)) {
+      const Real scale = std::isfinite(squared) ? limit / std::sqrt(squared) : Real(0);
+      for (Real& v : h)
+        v *= scale;
+    }
+    out.separation_curvature = h;
+  }
+  return count;
 }
 
 // A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
@@ -433,6 +483,7 @@ int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   out.normal = pose_b.rotate(out.normal);
   for (int i = 0; i < count; ++i)
     out.points[i].position = pose_b.apply(out.points[i].position);
+  out.separation_curvature = rotated_symmetric(pose_b.rotation, out.separation_curvature);
   return count;
 }
 
