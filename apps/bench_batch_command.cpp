@@ -22,6 +22,7 @@
 #include "apps/bullet_bridge.hpp"
 #include "apps/mujoco_bridge.hpp"
 #include "apps/number_format.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/spread.hpp"
 #include "engine/simulation.hpp"
 #include "tumble/batch_world.hpp"
@@ -209,7 +210,7 @@ Row row_of(const Runs& runs, const std::string& engine, int worlds, int threads,
 }  // namespace
 
 int bench_batch_command(const BenchBatchOptions& options) {
-  const std::shared_ptr<const Scene> scene = load_scene(options.scene);
+  const std::shared_ptr<const Scene> scene = load_scene(options.scene, scene_load_options());
   const int bodies = static_cast<int>(scene->bodies.size());
   std::cout << "tumble bench-batch " << options.scene.string() << " (" << bodies << " bodies), "
             << options.steps << " steps from the start, dt " << fixed_digits(scene->world.dt, 6)

@@ -11,6 +11,7 @@
 #include "apps/bullet_bridge.hpp"
 #include "apps/compare_command.hpp"
 #include "apps/number_format.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/spread.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
@@ -81,7 +82,7 @@ int bench_command(const BenchOptions& options) {
     // Each scene twice: sleeping off in both engines, then on in both (tumble's
     // world.sleeping, Bullet's default deactivation).
     for (const bool sleeping : {false, true}) {
-      auto scene = std::make_shared<Scene>(load_scene_file(path));
+      auto scene = std::make_shared<Scene>(load_scene_file(path, {}, scene_load_options()));
       scene->world.sleeping = sleeping;
       const std::int64_t steps = options.steps ? *options.steps : scene_steps(*scene);
       std::vector<TumbleRuns> tumble;

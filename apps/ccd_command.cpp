@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "collision/ccd/mesh_ccd.hpp"
+#include "scenes/printable_text.hpp"
 
 namespace tumble::app {
 namespace {
@@ -37,7 +38,8 @@ double parse_number(const std::string& text, const std::filesystem::path& file, 
     used = 0;
   }
   if (used != text.size() || text.empty() || !std::isfinite(value))
-    fail(file, line, std::string("field ") + field + ": expected a number, got '" + text + "'");
+    fail(file, line,
+         std::string("field ") + field + ": expected a number, got '" + printable(text) + "'");
   return value;
 }
 

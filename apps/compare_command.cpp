@@ -10,6 +10,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
+#include "apps/scene_access.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -143,7 +144,7 @@ CompareResult compare_scene(const std::shared_ptr<const Scene>& scene, std::int6
 }
 
 int compare_command(const CompareOptions& options) {
-  auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  auto scene = std::make_shared<Scene>(load_scene_file(options.scene, {}, scene_load_options()));
   if (options.threads)
     scene->world.threads = *options.threads;
   if (!bullet_available()) {

@@ -14,6 +14,7 @@
 #include "apps/render_command.hpp"
 #include "apps/report_command.hpp"
 #include "apps/run_command.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/sim2real_command.hpp"
 #include "apps/sweep_command.hpp"
 #include "apps/validate_command.hpp"
@@ -44,6 +45,11 @@ int main(int argc, char** argv) {
   CLI::App app{"tumble: a rigid-body physics engine centred on collision detection"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tumble ") + tumble::kVersion);
+  // Given before or after the command: every command's files follow the same rule.
+  app.fallthrough();
+  app.add_flag("--allow-outside-files", tumble::app::scene_load_options().allow_outside_files,
+               "Let scene, query and sweep files name files outside their own folder (off by "
+               "default: a scene from elsewhere cannot make tumble read any file on the machine)");
 
   tumble::app::RunOptions run;
   CLI::App* run_cmd =

@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "apps/number_format.hpp"
+#include "apps/scene_access.hpp"
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/ccd/swept_hull_sat.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
@@ -261,7 +262,7 @@ std::string answer_query(const ShapeQuery& query) {
 }
 
 int query_command(const std::filesystem::path& file) {
-  const std::vector<ShapeQuery> queries = load_query_file(file);
+  const std::vector<ShapeQuery> queries = load_query_file(file, scene_load_options());
   for (const ShapeQuery& q : queries)
     std::cout << answer_query(q) << '\n';
   std::cout.flush();

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include "apps/scene_access.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -132,7 +133,7 @@ int render_command(const RenderOptions& options) {
     return 1;
   }
 
-  auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  auto scene = std::make_shared<Scene>(load_scene_file(options.scene, {}, scene_load_options()));
   if (options.threads)
     scene->world.threads = *options.threads;
   const double duration = options.duration ? *options.duration

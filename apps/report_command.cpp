@@ -20,6 +20,7 @@
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
 #include "apps/plot_quote.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/work_pool.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
@@ -258,7 +259,7 @@ int report_command(const ReportOptions& options) {
   std::string problem;
   std::optional<Scene> loaded;
   try {
-    loaded = load_scene_file(options.scene);
+    loaded = load_scene_file(options.scene, {}, scene_load_options());
     loaded->world.threads = options.threads ? *options.threads : 1;
   } catch (const SceneError& e) {
     problem = e.what();

@@ -1,5 +1,6 @@
 #include "apps/run_command.hpp"
 
+#include "apps/scene_access.hpp"
 #include "tumble/model.hpp"
 
 #include <algorithm>
@@ -42,7 +43,7 @@ std::int64_t steps_for(double duration, double dt) {
 }  // namespace
 
 int run_command(const RunOptions& options) {
-  auto scene = std::make_shared<Scene>(load_scene_file(options.scene));
+  auto scene = std::make_shared<Scene>(load_scene_file(options.scene, {}, scene_load_options()));
   if (options.threads)
     scene->world.threads = *options.threads;
   if (options.dt)

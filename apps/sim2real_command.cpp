@@ -19,6 +19,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/number_format.hpp"
 #include "apps/plot_quote.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/spread.hpp"
 #include "tumble/batch_world.hpp"
 #include "tumble/error.hpp"
@@ -51,7 +52,7 @@ std::vector<double> distances(const BatchWorld& a, const BatchWorld& b,
 }  // namespace
 
 int sim2real_command(const Sim2RealOptions& options) {
-  const std::shared_ptr<const Scene> loaded = load_scene(options.scene);
+  const std::shared_ptr<const Scene> loaded = load_scene(options.scene, scene_load_options());
   std::vector<int> trained_bodies, dynamic_bodies;
   for (std::size_t i = 0; i < loaded->bodies.size(); ++i) {
     const BodyDesc& b = loaded->bodies[i];

@@ -19,6 +19,7 @@
 #include "apps/csv_field.hpp"
 #include "apps/number_format.hpp"
 #include "apps/run_summary.hpp"
+#include "apps/scene_access.hpp"
 #include "apps/trajectory_writer.hpp"
 #include "apps/work_pool.hpp"
 #include "engine/simulation.hpp"
@@ -152,7 +153,7 @@ json identity(const SweepSpec& spec, const std::string& digest, const PlannedRun
 
 // The scene of one run, checked as `tumble run` checks its overrides.
 std::shared_ptr<const Scene> scene_of(const SweepSpec& spec, const PlannedRun& run, int threads) {
-  Scene scene = load_scene_file(spec.scene, run.overrides);
+  Scene scene = load_scene_file(spec.scene, run.overrides, scene_load_options());
   if (run.seed)
     scene = randomized(scene, *run.seed);
   scene.world.threads = threads;
@@ -401,12 +402,12 @@ std::vector<double> check_sweep(const SweepSpec& spec, const Plan& plan,
     throw std::runtime_error(out.string() + ": cannot write in the output directory (" + e.what() +
                              ")");
   }
-  (void)load_scene_file(spec.scene);
+  (void)load_scene_file(spec.scene, {}, scene_load_options());
   for (const SweepAxis& axis : spec.axes) {
     for (std::size_t v = 0; v < axis.values.size(); ++v) {
       const FieldOverride one{axis.field, axis.values[v]};
       try {
-        Scene scene = load_scene_file(spec.scene, std::span(&one, 1));
+        Scene scene = load_scene_file(spec.scene, std::span(&one, 1), scene_load_options());
         scene.world.threads = threads;
         check_scene(scene);
       } catch (const SceneError& e) {

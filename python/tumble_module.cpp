@@ -249,16 +249,23 @@ PYBIND11_MODULE(_tumble, m) {
       });
   m.def(
       "load_scene",
-      [](const std::string& path) {
-        return std::const_pointer_cast<tumble::Scene>(tumble::load_scene(path));
+      [](const std::string& path, bool allow_outside_files) {
+        return std::const_pointer_cast<tumble::Scene>(
+            tumble::load_scene(path, {.allow_outside_files = allow_outside_files}));
       },
-      py::arg("path"), "Loads and checks a YAML scene; raises tumble.SceneError.");
+      py::arg("path"), py::kw_only(), py::arg("allow_outside_files") = false,
+      "Loads and checks a YAML scene; raises tumble.SceneError. The files it names must lie in "
+      "its folder or below unless allow_outside_files.");
   m.def(
       "load_scene_text",
-      [](const std::string& yaml, const std::string& name) {
-        return std::const_pointer_cast<tumble::Scene>(tumble::load_scene_text(yaml, name));
+      [](const std::string& yaml, const std::string& name, bool allow_outside_files) {
+        return std::const_pointer_cast<tumble::Scene>(
+            tumble::load_scene_text(yaml, name, {.allow_outside_files = allow_outside_files}));
       },
-      py::arg("yaml"), py::arg("name") = "<text>");
+      py::arg("yaml"), py::arg("name") = "<text>", py::kw_only(),
+      py::arg("allow_outside_files") = false,
+      "A scene from YAML text; the files it names must lie in the current folder or below unless "
+      "allow_outside_files.");
 
   m.def(
       "randomized",
@@ -279,7 +286,9 @@ PYBIND11_MODULE(_tumble, m) {
         const auto shape_pose = [](const py::object& shape, const py::object& pose,
                                    const char* what, const char* pose_what) {
           Vec3 centre = Vec3::Zero();
-          tumble::Shape s = tumble::load_shape_string(yaml_of(shape, what), what, &centre);
+          // A shape given in code, not a document from elsewhere: its files may lie anywhere.
+          tumble::Shape s = tumble::load_shape_string(yaml_of(shape, what), what, &centre,
+                                                      {.allow_outside_files = true});
           tumble::Transform t = pose_of(pose, pose_what);
           t.translation += t.rotation * centre;
           return std::make_pair(s, t);
@@ -307,7 +316,10 @@ PYBIND11_MODULE(_tumble, m) {
   py::class_<tumble::SdfTree>(m, "Sdf")
       .def(py::init([](const py::object& description) {
              return std::make_unique<tumble::SdfTree>(
-                 tumble::load_sdf_string(yaml_of(description, "Sdf"), "Sdf"));
+                 // A field given in code, not a document from elsewhere: its files may lie
+                 // anywhere.
+                 tumble::load_sdf_string(yaml_of(description, "Sdf"), "Sdf",
+                                         {.allow_outside_files = true}));
            }),
            py::arg("description"),
            "A signed distance field from its description as in a scene's `sdf:` field, as a "

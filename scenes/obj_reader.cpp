@@ -10,6 +10,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "scenes/printable_text.hpp"
+
 namespace tumble {
 namespace {
 
@@ -43,7 +45,7 @@ void check_records(const std::string& text, const std::string& name) {
         const auto [end, error] = std::from_chars(first.data(), first.data() + first.size(), index);
         if (error != std::errc() || end != first.data() + first.size() || index == 0 ||
             index > 2147483647LL || index < -2147483647LL)
-          refuse("face vertex '" + first +
+          refuse("face vertex '" + printable(first) +
                  "' is not a vertex number (1 to 2147483647, or "
                  "negative to count back)");
       }
@@ -53,7 +55,10 @@ void check_records(const std::string& text, const std::string& name) {
 
 }  // namespace
 
-ObjMesh read_obj_string(const std::string& text, const std::string& name) {
+namespace {
+
+// The vertices and triangles of the text, faces or none.
+ObjMesh parse_obj(const std::string& text, const std::string& name) {
   check_records(text, name);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -85,12 +90,12 @@ ObjMesh read_obj_string(const std::string& text, const std::string& name) {
       mesh.triangles.push_back(t);
     }
   }
-  if (mesh.triangles.empty())
-    throw ObjError("cannot read OBJ file '" + name + "': it has no faces ('f' lines)");
   return mesh;
 }
 
-ObjMesh read_obj_file(const std::filesystem::path& path) {
+// The whole file, refused at once unless it is a regular file (a FIFO would block the read for
+// ever, and a device such as /dev/zero never ends).
+std::string obj_text(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::status(path, ec).type() != std::filesystem::file_type::regular)
     throw ObjError("cannot open OBJ file '" + path.string() + "': not a regular file");
@@ -99,7 +104,25 @@ ObjMesh read_obj_file(const std::filesystem::path& path) {
     throw ObjError("cannot open OBJ file '" + path.string() + "'");
   std::ostringstream text;
   text << in.rdbuf();
-  return read_obj_string(text.str(), path.string());
+  return text.str();
+}
+
+}  // namespace
+
+ObjMesh read_obj_string(const std::string& text, const std::string& name) {
+  ObjMesh mesh = parse_obj(text, name);
+  if (mesh.triangles.empty())
+    throw ObjError("cannot read OBJ file '" + name + "': it has no faces ('f' lines)");
+  return mesh;
+}
+
+ObjMesh read_obj_file(const std::filesystem::path& path) {
+  return read_obj_string(obj_text(path), path.string());
+}
+
+std::vector<Vec3> read_obj_points_file(const std::filesystem::path& path) {
+  ObjMesh mesh = parse_obj(obj_text(path), path.string());
+  return std::move(mesh.vertices);
 }
 
 }  // namespace tumble

@@ -25,5 +25,7 @@ struct ObjMesh {
 // Throws ObjError with a message naming the file (and the library's line-level reason).
 ObjMesh read_obj_file(const std::filesystem::path& path);
 ObjMesh read_obj_string(const std::string& text, const std::string& name);
+// The vertices ('v' lines) alone, for a hull: faces may be there or not.
+std::vector<Vec3> read_obj_points_file(const std::filesystem::path& path);
 
 }  // namespace tumble

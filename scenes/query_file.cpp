@@ -158,16 +158,18 @@ namespace tumble {
 using scene_yaml::Loader;
 using scene_yaml::read_file;
 
-std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name) {
+std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name,
+                                          const SceneLoadOptions& options) {
   const std::string source(source_name);
-  Loader loader{source};
+  Loader loader{source, options};
   return scene_yaml::with_yaml_errors(source, [&] { return loader.load_queries(yaml); });
 }
 
-std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path) {
+std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path,
+                                        const SceneLoadOptions& options) {
   const std::string source = path.string();
   const std::string text = read_file(path, source);
-  return load_query_string(text, source);
+  return load_query_string(text, source, options);
 }
 
 }  // namespace tumble

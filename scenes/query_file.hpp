@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "collision/shapes/shape.hpp"
+#include "tumble/load_scene.hpp"
 
 namespace tumble {
 
@@ -39,7 +40,9 @@ struct ShapeQuery {
   ToiMethod method = ToiMethod::advancement;
 };
 
-std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path);
-std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name);
+std::vector<ShapeQuery> load_query_file(const std::filesystem::path& path,
+                                        const SceneLoadOptions& options = {});
+std::vector<ShapeQuery> load_query_string(std::string_view yaml, std::string_view source_name,
+                                          const SceneLoadOptions& options = {});
 
 }  // namespace tumble

@@ -183,10 +183,11 @@ Shape Loader::load_lone_shape(std::string_view text, Vec3* centre_of_mass) {
 
 using scene_yaml::Loader;
 
-Shape load_shape_string(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass) {
+Shape load_shape_string(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass,
+                        const SceneLoadOptions& options) {
   const std::string source(source_name);
   return scene_yaml::with_yaml_errors(
-      source, [&] { return Loader(source).load_lone_shape(yaml, centre_of_mass); });
+      source, [&] { return Loader(source, options).load_lone_shape(yaml, centre_of_mass); });
 }
 using scene_yaml::read_file;
 using scene_yaml::yaml_syntax_error;
@@ -196,10 +197,10 @@ Scene load_scene_string(std::string_view yaml, std::string_view source_name) {
 }
 
 Scene load_scene_string(std::string_view yaml, std::string_view source_name,
-                        std::span<const FieldOverride> overrides) {
+                        std::span<const FieldOverride> overrides, const SceneLoadOptions& options) {
   const std::string source(source_name);
   try {
-    return Loader(source).load(yaml, overrides);
+    return Loader(source, options).load(yaml, overrides);
   } catch (const SceneError&) {
     throw;
   } catch (const YAML::Exception& e) {
@@ -218,7 +219,8 @@ Scene load_scene_file(const std::filesystem::path& path) {
   return load_scene_file(path, {});
 }
 
-Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOverride> overrides) {
+Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOverride> overrides,
+                      const SceneLoadOptions& options) {
   const std::string source = path.string();
   std::string text;
   try {
@@ -228,7 +230,7 @@ Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOv
   } catch (const std::exception& e) {
     throw SceneError(source, 0, 0, "", std::string("cannot open scene file (") + e.what() + ")");
   }
-  return load_scene_string(text, source, overrides);
+  return load_scene_string(text, source, overrides, options);
 }
 
 }  // namespace tumble

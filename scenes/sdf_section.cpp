@@ -7,6 +7,7 @@
 
 #include "scenes/neural_sdf_file.hpp"
 #include "scenes/obj_reader.hpp"
+#include "scenes/scene_files.hpp"
 #include "scenes/yaml_reader.hpp"
 
 namespace tumble {
@@ -147,7 +148,8 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
       check_known(params, kNeuralKeys);
       const Entry& file = require(params, "file");
       const std::filesystem::path where =
-          relative_to_scene(read_name(file, child(here, "file"), "a weights file name (JSON)"));
+          referenced_file(read_name(file, child(here, "file"), "a weights file name (JSON)"),
+                          file.mark(), child(here, "file"));
       try {
         n = SdfNode::from_network(std::make_shared<const NeuralSdf>(load_neural_sdf_file(where)));
       } catch (const Error& error) {
@@ -166,10 +168,18 @@ SdfNode Loader::load_sdf_node(const Node& node, const YAML::Mark& mark, const st
   return n;
 }
 
-std::filesystem::path Loader::relative_to_scene(const std::string& name) const {
-  std::filesystem::path path(name);
-  if (path.is_relative())
-    path = std::filesystem::path(source_).parent_path() / path;
+std::filesystem::path Loader::referenced_file(const std::string& name, const YAML::Mark& mark,
+                                              const std::string& field) const {
+  const std::filesystem::path path = file_beside(source_, name);
+  if (!options_.allow_outside_files) {
+    if (const auto folder = outside_folder_of(source_, path))
+      fail(mark, field,
+           "'" + printable(name) + "' lies outside the scene's folder (" +
+               printable(folder->string()) +
+               "): a scene may name only files in its folder or below it (run with "
+               "--allow-outside-files, or set SceneLoadOptions::allow_outside_files, to lift "
+               "this)");
+  }
   return path;
 }
 
@@ -222,10 +232,11 @@ SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) con
              " needs a build with OpenVDB, which this one does not have; give a closed OBJ "
              "mesh with builder: tumble instead");
   const Real size = vdb_file ? 0 : read_real(*cell, child(here, "cell"), kCell);
+  const std::filesystem::path where = referenced_file(name, file->mark(), child(here, "file"));
   try {
     if (vdb_file)
-      return SdfNode::from_level_set(VdbLevelSet::load(relative_to_scene(name)), how);
-    const ObjMesh mesh = read_obj_file(relative_to_scene(name));
+      return SdfNode::from_level_set(VdbLevelSet::load(where), how);
+    const ObjMesh mesh = read_obj_file(where);
     if (openvdb)
       return SdfNode::from_level_set(
           VdbLevelSet::from_mesh(mesh.vertices, mesh.triangles, size, band_voxels), how);
@@ -254,9 +265,10 @@ SdfNode Loader::load_sdf(std::string_view text) {
 
 }  // namespace scene_yaml
 
-SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name) {
+SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name,
+                        const SceneLoadOptions& options) {
   const std::string source(source_name);
-  scene_yaml::Loader loader{source};
+  scene_yaml::Loader loader{source, options};
   return scene_yaml::with_yaml_errors(source, [&] { return loader.load_sdf(yaml); });
 }
 

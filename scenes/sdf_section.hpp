@@ -11,11 +11,13 @@
 #include <string_view>
 
 #include "collision/sdf/sdf_tree.hpp"
+#include "tumble/load_scene.hpp"
 
 namespace tumble {
 
 // The node of the YAML text `yaml` (one document: a node as above); `source_name` names it in
 // messages.
-SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name);
+SdfNode load_sdf_string(std::string_view yaml, std::string_view source_name,
+                        const SceneLoadOptions& options = {});
 
 }  // namespace tumble

@@ -2,7 +2,6 @@
 // "Shapes"), and orientations.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <string>
 
 #include "collision/shapes/compound_shape.hpp"
@@ -155,26 +154,12 @@ Shape Loader::load_hull(const Fields& f, const std::string& path, Vec3* centre_o
     }
   } else {
     const std::string name = read_word(*file_entry, field, "an OBJ file name");
-    const std::filesystem::path file = std::filesystem::path(source_).parent_path() / name;
-    std::ifstream in(file);
-    if (!in) {
-      fail(where.mark(), field, "cannot open OBJ file '" + file.string() + "'");
-    }
-    std::string line;
-    int line_number = 0;
-    while (std::getline(in, line)) {
-      ++line_number;
-      if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) {
-        continue;  // only vertex lines matter for a hull
-      }
-      std::istringstream fields(line.substr(2));
-      Vec3 p;
-      if (!(fields >> p.x() >> p.y() >> p.z()) || !p.allFinite()) {
-        fail(where.mark(), field,
-             "OBJ file '" + file.string() + "' line " + std::to_string(line_number) +
-                 ": expected 'v x y z' with three finite numbers, got '" + line + "'");
-      }
-      points.push_back(p);
+    // Only the vertex lines matter for a hull, read by the OBJ reader meshes use (which names
+    // a bad line by its number, without echoing the line).
+    try {
+      points = read_obj_points_file(referenced_file(name, where.mark(), field));
+    } catch (const ObjError& error) {
+      fail(where.mark(), field, error.what());
     }
   }
   try {
@@ -215,9 +200,7 @@ Shape Loader::load_mesh(const Fields& f, const std::string& path) const {
       }
     }
     const std::string name = read_name(*file, child(path, "file"), "an OBJ file name");
-    std::filesystem::path obj(name);
-    if (obj.is_relative())
-      obj = std::filesystem::path(source_).parent_path() / obj;
+    const std::filesystem::path obj = referenced_file(name, file->mark(), child(path, "file"));
     try {
       ObjMesh m = read_obj_file(obj);
       points = std::move(m.vertices);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "scenes/scene_files.hpp"
 #include "scenes/yaml_reader.hpp"
 
 namespace tumble {
@@ -178,10 +179,9 @@ SweepSpec Loader::load_sweep(std::string_view text) {
     fail(top.mark, "scene", "missing required field 'scene' (the scene file to vary)");
   }
   const std::string scene_text = read_name(*scene, "scene", "a scene file path");
-  spec.scene = std::filesystem::path(scene_text);
-  if (spec.scene.is_relative()) {
-    spec.scene = std::filesystem::path(source_).parent_path() / spec.scene;
-  }
+  // Like the scene a command line names: the study's own input, not a file a scene reads
+  // behind it (the scene's own files follow SceneLoadOptions when it is loaded).
+  spec.scene = file_beside(source_, scene_text);
   if (const Entry* x = top.find("duration")) {
     spec.duration = read_real(*x, "duration", kSweepDuration);
   }

@@ -42,28 +42,6 @@ std::string fmt(Real v) {
   return number_text(v);
 }
 
-// A value as the user wrote it, made safe for a one-line message: control bytes escaped, long
-// text cut.
-std::string printable(std::string_view s) {
-  constexpr std::size_t kMax = 60;
-  std::string out;
-  for (std::size_t i = 0; i < s.size() && i < kMax; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c < 0x20 || c == 0x7f) {
-      constexpr std::string_view hex = "0123456789abcdef";
-      out += "\\x";
-      out += hex[c >> 4];
-      out += hex[c & 15];
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  if (s.size() > kMax) {
-    out += "...";
-  }
-  return out;
-}
-
 // The path of a field in a map. Keys come from the file and may hold anything, so they are made
 // printable: a field path must never break the one-line message.
 std::string child(const std::string& path, std::string_view key) {

@@ -25,6 +25,7 @@
 #include "collision/sdf/neural_sdf.hpp"
 #include "collision/sdf/sdf_tree.hpp"
 #include "engine/scene_limits.hpp"
+#include "scenes/printable_text.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sweep_file.hpp"
@@ -148,7 +149,7 @@ std::string join(Keys keys);
 bool contains(Keys keys, std::string_view key);
 std::string index(const std::string& path, std::size_t i);
 std::string fmt(Real v);
-std::string printable(std::string_view s);
+using tumble::printable;
 std::string child(const std::string& path, std::string_view key);
 std::string describe(const Node& n);
 std::size_t edit_distance(std::string_view a, std::string_view b);
@@ -229,7 +230,8 @@ std::string read_file(const std::filesystem::path& path, const std::string& sour
 
 class Loader {
  public:
-  explicit Loader(std::string source) : source_(std::move(source)) {}
+  explicit Loader(std::string source, const SceneLoadOptions& options = {})
+      : source_(std::move(source)), options_(options) {}
 
   Scene load(std::string_view text, std::span<const FieldOverride> overrides = {});
 
@@ -300,7 +302,10 @@ class Loader {
  private:
   ShapeQuery load_query(const Node& node, const YAML::Mark& mark, std::size_t i) const;
   SweepAxis load_sweep_axis(const Entry& e) const;
-  std::filesystem::path relative_to_scene(const std::string& name) const;
+  // A file the document names, relative to its folder, refused (at `mark`, as `field`) where it
+  // lies outside that folder and the options do not allow it (SceneLoadOptions).
+  std::filesystem::path referenced_file(const std::string& name, const YAML::Mark& mark,
+                                        const std::string& field) const;
   SdfNode load_sdf_grid(const Fields& params, const std::string& here) const;
   SdfNode load_sdf_node(const Node& node, const YAML::Mark& mark, const std::string& path,
                         int depth) const;
@@ -309,6 +314,7 @@ class Loader {
                          Vec3* velocity, Vec3* angular_velocity) const;
 
   std::string source_;
+  SceneLoadOptions options_;
   struct LoadedShape {
     Shape shape;
     Vec3 centre_of_mass;

@@ -131,3 +131,21 @@ def test_world_api_from_python(pile_scene):
     world.step(60)
     reports = world.contact_reports()
     assert reports and all("points" in r for r in reports)
+
+
+def test_scene_files_outside_the_scene_folder_need_the_option(tmp_path):
+    # A scene may name only files in its folder or below it, unless allowed (SceneLoadOptions).
+    (tmp_path / "outside.obj").write_text(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    scene = folder / "scene.yaml"
+    scene.write_text("bodies:\n  - {name: m, static: true, shape: {type: mesh, "
+                     "file: ../outside.obj}}\n")
+    with pytest.raises(tumble.SceneError, match="lies outside the scene's folder"):
+        tumble.load_scene(str(scene))
+    assert tumble.load_scene(str(scene), allow_outside_files=True).body_names == ["m"]
+    text = f"bodies:\n  - {{name: m, static: true, shape: {{type: mesh, file: '{tmp_path}/outside.obj'}}}}\n"
+    with pytest.raises(tumble.SceneError, match="lies outside"):
+        tumble.load_scene_text(text)
+    assert tumble.load_scene_text(text, allow_outside_files=True).body_names == ["m"]

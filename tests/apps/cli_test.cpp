@@ -305,6 +305,29 @@ TEST(Cli, ValidateRejectsEveryMalformedScene) {
 }
 
 // An interrupted run leaves the previous output untouched and no file half-written.
+TEST(Cli, FilesOutsideTheScenesFolderNeedTheFlag) {
+  const fs::path dir = scratch_dir("outside_files");
+  std::ofstream(dir / "outside.obj")
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  fs::create_directories(dir / "scene");
+  const fs::path scene = dir / "scene" / "scene.yaml";
+  std::ofstream(scene)
+      << "world: {dt: 0.01, duration: 0.02}\nbodies:\n"
+         "  - {name: m, static: true, shape: {type: hull, file: ../outside.obj}}\n";
+  const std::string out = (dir / "out").string();
+  const Result refused = run_cli("run " + scene.string() + " -q -o " + out);
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("scene.yaml:3:"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("lies outside the scene's folder"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "out" / "trajectory.csv"));
+  // The flag goes before or after the command.
+  EXPECT_EQ(run_cli("--allow-outside-files run " + scene.string() + " -q -o " + out).exit_code, 0);
+  EXPECT_EQ(run_cli("run " + scene.string() + " -q -o " + out + " --allow-outside-files").exit_code,
+            0);
+  EXPECT_EQ(run_cli("validate " + scene.string()).exit_code, 1);
+  EXPECT_EQ(run_cli("validate " + scene.string() + " --allow-outside-files").exit_code, 0);
+}
+
 TEST(Cli, InterruptedRunLeavesNoPartialFile) {
   const fs::path dir = scratch_dir("interrupt");
   ASSERT_EQ(

@@ -18,8 +18,10 @@ namespace tumble::test {
 namespace {
 
 TEST(TerrainImpacts, BodiesFallingOnTheConvexVsMeshTerrainNeverGainEnergy) {
+  // The scene shares the benchmark's terrain mesh (scenes/bench/meshes) instead of a copy.
   auto scene = std::make_shared<const Scene>(load_scene_file(
-      std::string(TUMBLE_SOURCE_DIR) + "/tests/data/scenes/convex_vs_mesh_columns.yaml"));
+      std::string(TUMBLE_SOURCE_DIR) + "/tests/data/scenes/convex_vs_mesh_columns.yaml", {},
+      SceneLoadOptions{.allow_outside_files = true}));
   Simulation world(scene);
   const Real start_energy = world.kinetic_energy() + world.potential_energy();
   Real energy_before = start_energy;

@@ -97,18 +97,17 @@ TEST(SdfYaml, MistakesNameTheLineAndField) {
 }
 
 // Grid and network nodes read their files relative to the source's folder; the test names the
-// source as a file in the repository so that relative paths resolve there.
+// sources as files in the repository so that relative paths resolve there.
 TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
   const std::string source = std::string(TUMBLE_SOURCE_DIR) + "/scenes/sdf/here.yaml";
-  const SdfTree grid(load_sdf_string(
-      "{grid: {file: ../../tests/data/sdf/cube.obj, cell: 0.05, interpolation: trilinear}}",
-      source));
+  const std::string data = std::string(TUMBLE_SOURCE_DIR) + "/tests/data/here.yaml";
+  const SdfTree grid(
+      load_sdf_string("{grid: {file: sdf/cube.obj, cell: 0.05, interpolation: trilinear}}", data));
   // The unit cube: at grid nodes within the exact band (three cells of a face), 0.1 m in and out.
   EXPECT_NEAR(grid.distance(Vec3(0.4, 0, 0)), -0.1, 1e-9);
   EXPECT_NEAR(grid.distance(Vec3(0, 0.6, 0)), 0.1, 1e-9);
   EXPECT_LT(grid.distance(Vec3(0, 0, 0)), -0.4);  // the centre, swept from the band
-  const SdfTree net(
-      load_sdf_string("{neural: {file: ../../tests/data/neural/torus_sdf.json}}", source));
+  const SdfTree net(load_sdf_string("{neural: {file: neural/torus_sdf.json}}", data));
   // The committed fit: a torus of ring 0.6 m and tube 0.2 m, trained near its surface
   // (tests/data/neural/README.md: 5.7 mm at worst there); deep inside and far out, only signs.
   EXPECT_NEAR(net.distance(Vec3(0.8, 0, 0)), 0, 6e-3);
@@ -176,9 +175,9 @@ TEST(SdfYaml, AMorphReadsBothFieldsAndItsTimes) {
 // OpenVDB: a level set built from the same cube as the grid above, written to a .vdb file and
 // read back by a scene; without OpenVDB both are refused with the reason.
 TEST(SdfYaml, OpenVdbLevelSetsFromMeshesAndFiles) {
-  const std::string source = std::string(TUMBLE_SOURCE_DIR) + "/scenes/sdf/here.yaml";
+  const std::string source = std::string(TUMBLE_SOURCE_DIR) + "/tests/data/here.yaml";
   const std::string built =
-      "{grid: {file: ../../tests/data/sdf/cube.obj, cell: 0.05, builder: openvdb, band: 4, "
+      "{grid: {file: sdf/cube.obj, cell: 0.05, builder: openvdb, band: 4, "
       "interpolation: trilinear}}";
   if (!VdbLevelSet::available()) {
     expect_refused(built, source, "sdf.grid.file", "needs a build with OpenVDB");

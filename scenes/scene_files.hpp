@@ -1,0 +1,20 @@
+// Where the files a scene names are looked up, and which of them it may name
+// (SceneLoadOptions::allow_outside_files in tumble/load_scene.hpp).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace tumble {
+
+// `name` as the document `source` (a file path, or a name such as "<text>" for a document with
+// no file, whose folder is the current one) refers to it: relative names from that folder.
+std::filesystem::path file_beside(const std::string& source, const std::string& name);
+
+// The folder `file` would have to lie in (the document's own, symbolic links resolved) when it
+// lies outside it; nothing when it lies in that folder or below.
+std::optional<std::filesystem::path> outside_folder_of(const std::string& source,
+                                                       const std::filesystem::path& file);
+
+}  // namespace tumble

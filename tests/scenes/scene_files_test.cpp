@@ -1,0 +1,134 @@
+// The files a scene names (meshes, hulls, grids) must lie in its folder or below it, symbolic
+// links followed, unless SceneLoadOptions::allow_outside_files; a hull's file is read like a
+// mesh's (regular files only, bad lines named by number, never echoed at length).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "scenes/scene_loader.hpp"
+
+namespace tumble {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kTetrahedron =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n"
+    "f 1 4 3\nf 2 3 4\n";
+
+void write(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// A scene folder `scene/` with a tetrahedron beside it and one inside it.
+struct Folders {
+  fs::path root;
+  fs::path scene_dir;
+  Folders() {
+    root = fs::temp_directory_path() / ("tumble_scene_files_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    scene_dir = root / "scene";
+    write(root / "outside.obj", kTetrahedron);
+    write(scene_dir / "meshes" / "inside.obj", kTetrahedron);
+  }
+  ~Folders() { fs::remove_all(root); }
+  // A scene whose one static body is the shape `shape` (YAML flow map), written as scene.yaml.
+  fs::path scene_with(const std::string& shape) const {
+    const fs::path path = scene_dir / "scene.yaml";
+    write(path,
+          "world: {dt: 0.01, duration: 0.1}\nbodies:\n  - {name: thing, static: true,\n"
+          "     shape: " +
+              shape + "}\n");
+    return path;
+  }
+};
+
+std::string refusal(const fs::path& scene, const SceneLoadOptions& options = {}) {
+  try {
+    (void)load_scene_file(scene, {}, options);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneFiles, AFileOutsideTheScenesFolderIsRefusedUnlessAllowed) {
+  const Folders f;
+  const SceneLoadOptions anywhere{.allow_outside_files = true};
+  for (const std::string& name : {std::string("../outside.obj"), (f.root / "outside.obj").string(),
+                                  std::string("meshes/../../outside.obj")}) {
+    for (const std::string type : {"mesh", "hull"}) {
+      const fs::path scene = f.scene_with("{type: " + type + ", file: '" + name + "'}");
+      const std::string why = refusal(scene);
+      EXPECT_NE(why.find("scene.yaml:4:"), std::string::npos) << why;
+      EXPECT_NE(why.find("bodies[0].shape.file"), std::string::npos) << why;
+      EXPECT_NE(why.find("lies outside the scene's folder"), std::string::npos) << why;
+      EXPECT_NE(why.find("--allow-outside-files"), std::string::npos) << why;
+      EXPECT_EQ(refusal(scene, anywhere), "") << type << " " << name;
+    }
+  }
+  // In the folder or below it: read as always.
+  EXPECT_EQ(refusal(f.scene_with("{type: mesh, file: meshes/inside.obj}")), "");
+  EXPECT_EQ(refusal(f.scene_with("{type: hull, file: meshes/../meshes/inside.obj}")), "");
+  // A grid field's mesh follows the same rule.
+  const fs::path grid = f.scene_with("{type: sdf, sdf: {grid: {file: ../outside.obj, cell: 0.2}}}");
+  EXPECT_NE(refusal(grid).find("sdf.grid.file"), std::string::npos);
+}
+
+TEST(SceneFiles, ALinkInTheFolderToAFileOutsideItIsRefused) {
+  const Folders f;
+  fs::create_symlink(f.root / "outside.obj", f.scene_dir / "link.obj");
+  const fs::path scene = f.scene_with("{type: mesh, file: link.obj}");
+  EXPECT_NE(refusal(scene).find("'link.obj' lies outside"), std::string::npos) << refusal(scene);
+  EXPECT_EQ(refusal(scene, {.allow_outside_files = true}), "");
+  // A link to a folder outside leads out as well.
+  fs::create_directory_symlink(f.root, f.scene_dir / "up");
+  EXPECT_NE(refusal(f.scene_with("{type: hull, file: up/outside.obj}")).find("lies outside"),
+            std::string::npos);
+}
+
+TEST(SceneFiles, ATextScenesFolderIsTheCurrentOne) {
+  const Folders f;
+  const fs::path previous = fs::current_path();
+  fs::current_path(f.scene_dir);
+  const std::string yaml = "bodies:\n  - {name: m, static: true, shape: {type: mesh, file: X}}\n";
+  const auto refused = [&](const std::string& name, const SceneLoadOptions& options) {
+    std::string text = yaml;
+    text.replace(text.find('X'), 1, name);
+    try {
+      (void)load_scene_string(text, "<text>", {}, options);
+    } catch (const SceneError& e) {
+      return std::string(e.what()).find("lies outside") != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_FALSE(refused("meshes/inside.obj", {}));
+  EXPECT_TRUE(refused("../outside.obj", {}));
+  EXPECT_FALSE(refused("../outside.obj", {.allow_outside_files = true}));
+  fs::current_path(previous);
+}
+
+TEST(SceneFiles, AHullFileIsReadLikeAMeshFile) {
+  const Folders f;
+  // Not a regular file: refused at once (a FIFO would block the read for ever).
+  const fs::path fifo = f.scene_dir / "pipe.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(refusal(f.scene_with("{type: hull, file: pipe.obj}")).find("not a regular file"),
+            std::string::npos);
+  // A bad vertex is named by its line, and the line is not echoed.
+  write(f.scene_dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 secret-text-of-the-file\nv 0 0 1\n");
+  const std::string why = refusal(f.scene_with("{type: hull, file: bad.obj}"));
+  EXPECT_NE(why.find("line 3: vertex coordinate 3"), std::string::npos) << why;
+  EXPECT_EQ(why.find("secret"), std::string::npos) << why;
+  // Points with no faces are a hull's usual file.
+  write(f.scene_dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n");
+  EXPECT_EQ(refusal(f.scene_with("{type: hull, file: points.obj}")), "");
+}
+
+}  // namespace
+}  // namespace tumble
