@@ -1,6 +1,8 @@
-// Output files written atomically: the bytes go to a temporary file beside the target, which is
-// renamed onto the final name only when complete. An interrupted run leaves the previous file
-// (or none) under the final name, never a half-written one.
+// Output files written atomically: the bytes go to a temporary file beside the target
+// (NAME.tmp.PID), which is renamed onto the final name only when complete. An interrupted run
+// leaves the previous file (or none) under the final name, never a half-written one; a run killed
+// outright leaves its temporary file, which the next write of that target removes once its
+// process is gone.
 #pragma once
 
 #include <filesystem>

@@ -174,14 +174,17 @@ int render_command(const RenderOptions& options) {
   g_interrupted = 0;
   auto previous_int = std::signal(SIGINT, on_render_interrupt);
   auto previous_term = std::signal(SIGTERM, on_render_interrupt);
+  auto previous_hup = std::signal(SIGHUP, on_render_interrupt);  // the terminal closed
   struct RestoreSignals {
     void (*previous_int)(int);
     void (*previous_term)(int);
+    void (*previous_hup)(int);
     ~RestoreSignals() {
       std::signal(SIGINT, previous_int);
       std::signal(SIGTERM, previous_term);
+      std::signal(SIGHUP, previous_hup);
     }
-  } restore{previous_int, previous_term};
+  } restore{previous_int, previous_term, previous_hup};
 
   Simulation world(scene);
   std::unique_ptr<render::Renderer> renderer;

@@ -108,6 +108,7 @@ int run_command(const RunOptions& options) {
   g_interrupted = 0;
   auto previous_int = std::signal(SIGINT, on_interrupt);
   auto previous_term = std::signal(SIGTERM, on_interrupt);
+  auto previous_hup = std::signal(SIGHUP, on_interrupt);  // the terminal closed
   World api_world(scene);
   Simulation& world = api_world.simulation();
   RunSummary summary(*scene, world, options.scene, steps);
@@ -140,6 +141,7 @@ int run_command(const RunOptions& options) {
   const auto restore_signals = [&] {
     std::signal(SIGINT, previous_int);
     std::signal(SIGTERM, previous_term);
+    std::signal(SIGHUP, previous_hup);
   };
   const auto start = std::chrono::steady_clock::now();
   record();

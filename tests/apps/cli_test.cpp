@@ -328,26 +328,23 @@ TEST(Cli, FilesOutsideTheScenesFolderNeedTheFlag) {
   EXPECT_EQ(run_cli("validate " + scene.string() + " --allow-outside-files").exit_code, 0);
 }
 
-TEST(Cli, InterruptedRunLeavesNoPartialFile) {
-  const fs::path dir = scratch_dir("interrupt");
-  ASSERT_EQ(
-      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
-  const std::string before = read_file(dir / "trajectory.csv");
-
+// Starts `tumble run` of a long scene into `out` and returns its pid once it is writing its
+// temporary trajectory file.
+pid_t start_long_run(const fs::path& out) {
   const std::string cli = TUMBLE_CLI;
   const std::string scene = kScenes + "stack10.yaml";
-  const std::string out = dir.string();
-  std::vector<std::string> args = {cli, "run", scene, "-q", "--steps", "100000000", "-o", out};
+  const std::string dir = out.string();
+  std::vector<std::string> args = {cli, "run", scene, "-q", "--steps", "100000000", "-o", dir};
   std::vector<char*> argv;
   for (auto& a : args)
     argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  ASSERT_EQ(::posix_spawn(&pid, cli.c_str(), nullptr, nullptr, argv.data(), environ), 0);
-  // Wait until the run has started writing its temporary file, then interrupt it.
+  if (::posix_spawn(&pid, cli.c_str(), nullptr, nullptr, argv.data(), environ) != 0)
+    return 0;
   for (int i = 0; i < 200; ++i) {
     bool temporary_seen = false;
-    for (const auto& e : fs::directory_iterator(dir)) {
+    for (const auto& e : fs::directory_iterator(out)) {
       temporary_seen =
           temporary_seen || e.path().filename().string().find(".tmp.") != std::string::npos;
     }
@@ -356,15 +353,55 @@ TEST(Cli, InterruptedRunLeavesNoPartialFile) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  return pid;
+}
+
+int temporary_files_in(const fs::path& dir) {
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(dir))
+    count += e.path().filename().string().find(".tmp.") != std::string::npos ? 1 : 0;
+  return count;
+}
+
+TEST(Cli, AnInterruptedRunLeavesNoPartialFile) {
+  const fs::path dir = scratch_dir("interrupt");
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  const std::string before = read_file(dir / "trajectory.csv");
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    const pid_t pid = start_long_run(dir);
+    ASSERT_GT(pid, 0);
+    ASSERT_EQ(::kill(pid, signal), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)) << "signal " << signal;
+    EXPECT_EQ(WEXITSTATUS(status), 130) << "signal " << signal;
+    EXPECT_EQ(read_file(dir / "trajectory.csv"), before) << "signal " << signal;
+    EXPECT_EQ(temporary_files_in(dir), 0) << "signal " << signal;
+  }
+}
+
+TEST(Cli, AKilledRunsTemporaryFileGoesWithTheNextRunIntoItsFolder) {
+  const fs::path dir = scratch_dir("killed");
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  const std::string before = read_file(dir / "trajectory.csv");
+  const pid_t pid = start_long_run(dir);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130);
+  // SIGKILL cannot be caught: its temporary file stays, the complete file keeps its name.
+  EXPECT_EQ(temporary_files_in(dir), 1);
   EXPECT_EQ(read_file(dir / "trajectory.csv"), before);
-  for (const auto& e : fs::directory_iterator(dir)) {
-    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
-  }
+  // A temporary file of a process still running (this test's) is not another run's to remove.
+  const fs::path live = dir / ("trajectory.csv.tmp." + std::to_string(::getpid()));
+  std::ofstream(live) << "in progress";
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  EXPECT_EQ(temporary_files_in(dir), 1);
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_EQ(read_file(dir / "trajectory.csv"), before);
 }
 
 }  // namespace
