@@ -307,8 +307,9 @@ PYBIND11_MODULE(_tumble, m) {
         return out;
       },
       py::arg("shape_a"), py::arg("pose_a"), py::arg("shape_b"), py::arg("pose_b"),
-      "Signed distance of two convex shapes (or a convex shape and a plane), written as in a "
-      "scene ({'type': 'box', 'half_extents': [1, 1, 1]}), at poses of 3 numbers (position) or "
+      "Signed distance of two convex shapes, a convex shape and a plane, or a convex shape and "
+      "an SDF shape ({'type': 'sdf', 'sdf': {...}}), written as in a scene ({'type': 'box', "
+      "'half_extents': [1, 1, 1]}), at poses of 3 numbers (position) or "
       "7 (position, then w x y z): a dict with distance (negative in penetration), point_a, "
       "point_b, normal (from B to A), gradient_a and gradient_b (d distance / d pose: "
       "translation, then rotation about the body's origin, world axes) and converged.");
