@@ -144,6 +144,7 @@ nlohmann::json RunSummary::to_json_object(bool timings) const {
         {"solver_iterations", totals_.solver_iterations},
         {"ccd_swept_bodies", totals_.swept_bodies},
         {"ccd_stopped_bodies", totals_.stopped_bodies},
+        {"ccd_impact_rounds", totals_.impact_rounds},
         {"ccd_candidate_pairs", totals_.ccd_candidate_pairs}}},
       {"energy",
        {{"initial",

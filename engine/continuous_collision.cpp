@@ -62,6 +62,14 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   hit_partner_.resize(n);
   hit_normal_.resize(n);
   motions_.resize(n);
+  plan_from_.resize(n);
+  move_time_.resize(n);
+  moving_on_.resize(n);
+  hit_this_round_.resize(n);
+  group_of_.assign(n, -1);
+  group_box_.resize(n);
+  group_hit_.resize(n);
+  moved_on_.resize(n);
   swept_boxes_.resize(n);
   swept_list_.reserve(n);
   found_.reserve(n);
@@ -93,6 +101,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
   const CcdMode mode = scene.world.ccd;
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   swept_list_.clear();
+  moved_on_list_.clear();
   // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
   // phase covers its start pose, so that box grown by this covers its whole motion.
   Real unswept_travel = 0;
@@ -100,6 +109,9 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     swept_[i] = 0;
     earliest_[i] = 1;
     hit_partner_[i] = -1;
+    plan_from_[i] = 0;
+    moving_on_[i] = 0;
+    moved_on_[i] = 0;
     const BodyDesc& d = scene.bodies[i];
     if (d.is_static) {
       motions_[i] = RigidMotion::stationary(start[i]);
@@ -205,6 +217,7 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
       record_hit(t.b, t.a, t.time, -t.normal);
   }
   stop_at_earliest_times(model, bodies, masses, counts);
+  sweep_on_after_impacts(model, broad_phase, unswept_travel, bodies, masses, runner, counts);
   return counts;
 }
 
@@ -243,7 +256,22 @@ void ContinuousCollision::record_hit(std::int32_t body, std::int32_t partner, Re
 
 void ContinuousCollision::stop_at_earliest_times(const Model& model, std::vector<BodyState>& bodies,
                                                  std::span<const BodyMass> masses,
-                                                 ContinuousCollisionCounts& counts) const {
+                                                 ContinuousCollisionCounts& counts) {
+  next_moving_on_.clear();
+  // Each body an impact set moving, and the time it moves on from: a stopped body from its
+  // stop, its partner from the impact (the first, when several bodies hit it).
+  const auto moves_on = [&](std::size_t b, Real time) {
+    if (masses[b].inverse_mass == 0)
+      return;
+    const bool stopped = swept_[b] && earliest_[b] < 1;
+    if (!moving_on_[b]) {
+      moving_on_[b] = 1;
+      move_time_[b] = stopped ? earliest_[b] : time;
+      next_moving_on_.push_back(static_cast<std::int32_t>(b));
+    } else if (!stopped) {
+      move_time_[b] = std::min(move_time_[b], time);
+    }
+  };
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!swept_[i] || earliest_[i] >= 1)
       continue;
@@ -253,23 +281,295 @@ void ContinuousCollision::stop_at_earliest_times(const Model& model, std::vector
     ++counts.stopped_bodies;
     if (hit_partner_[i] < 0)
       continue;
-    // The impact at the stop: the approach of the centres along the normal, reflected by the
-    // restitution, by an impulse shared as the inverse masses share it.
     const std::size_t j = static_cast<std::size_t>(hit_partner_[i]);
-    const Vec3& n = hit_normal_[i];
-    const Real approach = (bodies[i].velocity - bodies[j].velocity).dot(n);
-    const Real im_i = masses[i].inverse_mass;
-    const Real im_j = masses[j].inverse_mass;
-    if (!(approach < 0) || im_i + im_j == 0)
+    if (!resolve_impact(model, i, j, hit_normal_[i], bodies, masses))
       continue;
-    const Real restitution =
-        -approach > model.scene().world.restitution_threshold
-            ? model.restitution(model.scene().bodies[i].material, model.scene().bodies[j].material)
-            : Real(0);
-    const Real impulse = -(1 + restitution) * approach / (im_i + im_j);
-    bodies[i].velocity += n * (impulse * im_i);
-    bodies[j].velocity -= n * (impulse * im_j);
+    moves_on(i, earliest_[i]);
+    moves_on(j, earliest_[i]);
   }
+  // A body stopped without an impact stays where it stopped.
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (swept_[i] && earliest_[i] < 1 && !moving_on_[i]) {
+      motions_[i] = RigidMotion::stationary(motions_[i].at(earliest_[i]));
+      plan_from_[i] = earliest_[i];
+    }
+  }
+  std::sort(next_moving_on_.begin(), next_moving_on_.end());
+  for (const std::int32_t b : next_moving_on_)
+    move_on(static_cast<std::size_t>(b), bodies, model.scene().world.dt);
+}
+
+bool ContinuousCollision::resolve_impact(const Model& model, std::size_t i, std::size_t j,
+                                         const Vec3& n, std::vector<BodyState>& bodies,
+                                         std::span<const BodyMass> masses) const {
+  // The approach of the centres along the normal, reflected by the restitution, by an impulse
+  // shared as the inverse masses share it.
+  const Real approach = (bodies[i].velocity - bodies[j].velocity).dot(n);
+  const Real im_i = masses[i].inverse_mass;
+  const Real im_j = masses[j].inverse_mass;
+  if (!(approach < 0) || im_i + im_j == 0)
+    return false;
+  const Real restitution =
+      -approach > model.scene().world.restitution_threshold
+          ? model.restitution(model.scene().bodies[i].material, model.scene().bodies[j].material)
+          : Real(0);
+  const Real impulse = -(1 + restitution) * approach / (im_i + im_j);
+  bodies[i].velocity += n * (impulse * im_i);
+  bodies[j].velocity -= n * (impulse * im_j);
+  return true;
+}
+
+void ContinuousCollision::move_on(std::size_t b, std::vector<BodyState>& bodies, Real dt) {
+  const Real time = move_time_[b];
+  const Transform pose = rest_of_motion(b, time).start();
+  bodies[b].position = pose.translation;
+  bodies[b].orientation = pose.rotation;
+  const Real rest = (1 - time) * dt;
+  motions_[b] = RigidMotion::from_velocity(pose, bodies[b].velocity * rest,
+                                           bodies[b].angular_velocity * rest);
+  plan_from_[b] = time;
+}
+
+std::int32_t ContinuousCollision::group_root(std::int32_t c) {
+  while (group_of_[std::size_t(c)] != c) {
+    group_of_[std::size_t(c)] = group_of_[std::size_t(group_of_[std::size_t(c)])];
+    c = group_of_[std::size_t(c)];
+  }
+  return c;
+}
+
+Aabb ContinuousCollision::round_box(const Scene& scene, std::int32_t c) const {
+  const std::size_t i = std::size_t(c);
+  const BodyDesc& d = scene.bodies[i];
+  if (d.is_static)
+    return world_aabb(d.shape, motions_[i].start());
+  if (swept_[i] || moving_on_[i])
+    return swept_boxes_[i];
+  return motion_box(d.shape, motions_[i], radius_[i]);
+}
+
+RigidMotion ContinuousCollision::rest_of_motion(std::size_t b, Real from) const {
+  const RigidMotion& m = motions_[b];
+  const Real begin = plan_from_[b];
+  if (from <= begin)
+    return m;
+  const Real s = (from - begin) / (1 - begin);
+  // The same straight line and turn about a fixed axis, from its pose at `from` on.
+  return RigidMotion::from_velocity(m.at(s), m.linear_velocity() * (1 - s),
+                                    m.angular_velocity() * (1 - s));
+}
+
+void ContinuousCollision::sweep_on_after_impacts(const Model& model, const BroadPhase& broad_phase,
+                                                 Real unswept_travel,
+                                                 std::vector<BodyState>& bodies,
+                                                 std::span<const BodyMass> masses,
+                                                 const ParallelRunner& runner,
+                                                 ContinuousCollisionCounts& counts) {
+  const Scene& scene = model.scene();
+  const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
+  const Real dt = scene.world.dt;
+  for (int round = 0; round < kMaxImpactRounds && !next_moving_on_.empty(); ++round) {
+    ++counts.impact_rounds;
+    moving_on_list_.swap(next_moving_on_);
+    next_moving_on_.clear();
+    for (const std::int32_t a : moving_on_list_) {
+      if (!moved_on_[std::size_t(a)]) {
+        moved_on_[std::size_t(a)] = 1;
+        moved_on_list_.push_back(a);
+      }
+    }
+    // The pairs: each body moving on against the static and slow bodies near its path (the
+    // broad phase: boxes at the start of the step, grown by the farthest a slow body moves),
+    // every swept body, and every other body moving on; from the later of the two motions'
+    // starts.
+    round_pairs_.clear();
+    const auto add_round_pair = [&](std::int32_t a, std::int32_t b) {
+      round_pairs_.push_back(
+          {a, b, std::max(plan_from_[std::size_t(a)], plan_from_[std::size_t(b)])});
+    };
+    entries_.clear();
+    for (const std::int32_t a : moving_on_list_) {
+      const std::size_t i = std::size_t(a);
+      swept_boxes_[i] = motion_box(scene.bodies[i].shape, motions_[i], radius_[i]).inflated(skin);
+      entries_.push_back({swept_boxes_[i], a, 1});
+      broad_phase.query(swept_boxes_[i].inflated(unswept_travel), found_);
+      std::sort(found_.begin(), found_.end());
+      for (const std::int32_t b : found_) {
+        const std::size_t j = std::size_t(b);
+        if (b == a || swept_[j] || moved_on_[j] || model.is_removed(j))
+          continue;
+        const BodyDesc& d = scene.bodies[j];
+        if (d.shape.is_bounded() &&
+            !swept_boxes_[i].overlaps(d.is_static ? world_aabb(d.shape, motions_[j].start())
+                                                  : motion_box(d.shape, motions_[j], radius_[j])))
+          continue;
+        add_round_pair(a, b);
+      }
+    }
+    // Swept bodies (their boxes over the whole step hold what is left of their motion) and the
+    // bodies moving on, sorted and swept on x, for the pairs with one moving on.
+    for (const std::int32_t b : swept_list_) {
+      if (!moving_on_[std::size_t(b)])
+        entries_.push_back({swept_boxes_[std::size_t(b)], b, 0});
+    }
+    // Bodies an impact set moving earlier in the step: the box of their last motion.
+    for (const std::int32_t b : moved_on_list_) {
+      if (!moving_on_[std::size_t(b)] && !swept_[std::size_t(b)])
+        entries_.push_back({swept_boxes_[std::size_t(b)], b, 0});
+    }
+    std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
+      return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
+    });
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+      const SweepEntry& e = entries_[k];
+      for (std::size_t j = k + 1; j < entries_.size(); ++j) {
+        const SweepEntry& f = entries_[j];
+        if (f.box.min.x() > e.box.max.x())
+          break;
+        if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
+          continue;
+        // The body moving on first (the lower index when both are).
+        if (e.swept && (!f.swept || e.id < f.id))
+          add_round_pair(e.id, f.id);
+        else
+          add_round_pair(f.id, e.id);
+      }
+    }
+    counts.candidate_pairs += static_cast<std::int64_t>(round_pairs_.size());
+    tests_.assign(round_pairs_.size(), PairTest{});
+    constexpr std::int32_t kPairsPerChunk = 16;
+    runner.for_chunks(static_cast<std::int32_t>(round_pairs_.size()), kPairsPerChunk,
+                      [&](std::int32_t begin, std::int32_t end) {
+                        for (std::int32_t k = begin; k < end; ++k) {
+                          const RoundPair& p = round_pairs_[std::size_t(k)];
+                          PairTest& t = tests_[std::size_t(k)];
+                          t.a = p.a;
+                          t.b = p.b;
+                          test_motions(scene, rest_of_motion(std::size_t(p.a), p.from),
+                                       rest_of_motion(std::size_t(p.b), p.from), true, t);
+                          t.time = p.from + t.time * (1 - p.from);
+                        }
+                      });
+    // Groups of bodies that may meet this round: joined by the pairs tested (immovable bodies
+    // join nothing, their motion never changes). In each group only its first hit is taken:
+    // what that impact changes may bring any member to an earlier meeting than the group's
+    // later hits. Groups apart take their first hits together, unless a motion an earlier hit
+    // changed reaches the group's box.
+    for (const RoundPair& p : round_pairs_) {
+      for (const std::int32_t c : {p.a, p.b}) {
+        if (group_of_[std::size_t(c)] < 0) {
+          group_of_[std::size_t(c)] = c;
+          group_box_[std::size_t(c)] = round_box(scene, c);
+          grouped_.push_back(c);
+        }
+      }
+      if (masses[std::size_t(p.a)].inverse_mass > 0 && masses[std::size_t(p.b)].inverse_mass > 0) {
+        const std::int32_t ra = group_root(p.a), rb = group_root(p.b);
+        if (ra != rb) {
+          const std::int32_t low = std::min(ra, rb), high = std::max(ra, rb);
+          group_of_[std::size_t(high)] = low;
+          group_box_[std::size_t(low)].grow(group_box_[std::size_t(high)]);
+        }
+      }
+    }
+    round_order_.clear();
+    for (std::size_t k = 0; k < tests_.size(); ++k) {
+      counts.toi_queries += tests_[k].queries;
+      if (tests_[k].hit)
+        round_order_.push_back(static_cast<std::uint32_t>(k));
+    }
+    std::sort(round_order_.begin(), round_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
+      const PairTest& p = tests_[x];
+      const PairTest& q = tests_[y];
+      return p.time < q.time || (p.time == q.time && (p.a < q.a || (p.a == q.a && p.b < q.b)));
+    });
+    changed_boxes_.clear();
+    for (const std::uint32_t k : round_order_) {
+      const PairTest& t = tests_[k];
+      const std::size_t a = std::size_t(t.a);
+      const std::size_t b = std::size_t(t.b);
+      // The group of the movable body (a moving body's pair always has one).
+      const std::size_t g = std::size_t(group_root(masses[a].inverse_mass > 0 ? t.a : t.b));
+      if (group_hit_[g])
+        continue;
+      group_hit_[g] = 1;
+      bool reached = false;
+      for (const Aabb& changed : changed_boxes_)
+        reached = reached || changed.overlaps(group_box_[g]);
+      if (reached)
+        continue;
+      hit_this_round_[a] = 1;
+      hit_this_round_[b] = 1;
+      ++counts.stopped_bodies;
+      // Both where they are then (a static body where it stands), and the impact there.
+      for (const std::size_t c : {a, b}) {
+        if (scene.bodies[c].is_static)
+          continue;
+        const Transform at = rest_of_motion(c, t.time).start();
+        bodies[c].position = at.translation;
+        bodies[c].orientation = at.rotation;
+      }
+      const bool pushed = resolve_impact(model, a, b, t.normal, bodies, masses);
+      for (const std::size_t c : {a, b}) {
+        if (scene.bodies[c].is_static)
+          continue;
+        const Real rest = (1 - t.time) * dt;
+        changed_boxes_.push_back(
+            motion_box(
+                scene.bodies[c].shape,
+                RigidMotion::from_velocity(Transform{bodies[c].position, bodies[c].orientation},
+                                           bodies[c].velocity * (pushed ? rest : 0),
+                                           bodies[c].angular_velocity * (pushed ? rest : 0)),
+                radius_[c])
+                .inflated(skin));
+        if (pushed && masses[c].inverse_mass > 0) {
+          moving_on_[c] = 1;
+          move_time_[c] = t.time;
+          next_moving_on_.push_back(static_cast<std::int32_t>(c));
+        } else {
+          motions_[c] =
+              RigidMotion::stationary(Transform{bodies[c].position, bodies[c].orientation});
+          plan_from_[c] = t.time;
+          moving_on_[c] = 0;
+        }
+      }
+    }
+    // A body moving on whose group met nothing ends the step where its motion ends; the others
+    // are tested again next round, against what this round's impacts changed.
+    for (const std::int32_t a : moving_on_list_) {
+      const std::size_t i = std::size_t(a);
+      if (hit_this_round_[i])
+        continue;
+      if (group_of_[i] >= 0 && group_hit_[std::size_t(group_root(a))]) {
+        next_moving_on_.push_back(a);
+        continue;
+      }
+      moving_on_[i] = 0;
+      const Transform end = motions_[i].end();
+      bodies[i].position = end.translation;
+      bodies[i].orientation = end.rotation;
+    }
+    for (const std::int32_t c : grouped_) {
+      group_of_[std::size_t(c)] = -1;
+      group_hit_[std::size_t(c)] = 0;
+      hit_this_round_[std::size_t(c)] = 0;
+    }
+    grouped_.clear();
+    std::sort(next_moving_on_.begin(), next_moving_on_.end());
+    next_moving_on_.erase(std::unique(next_moving_on_.begin(), next_moving_on_.end()),
+                          next_moving_on_.end());
+    // A body that waited keeps its motion: moving on from its start with the same velocity
+    // makes the same one.
+    for (const std::int32_t c : next_moving_on_)
+      move_on(std::size_t(c), bodies, dt);
+  }
+  // Bodies still in a chain of impacts after the last round stay where it left them.
+  for (const std::int32_t c : next_moving_on_) {
+    moving_on_[std::size_t(c)] = 0;
+    motions_[std::size_t(c)] = RigidMotion::stationary(
+        Transform{bodies[std::size_t(c)].position, bodies[std::size_t(c)].orientation});
+  }
+  next_moving_on_.clear();
 }
 
 // A pair apart at the start of the step is stopped a little before contact, within the next
@@ -287,6 +587,12 @@ void ContinuousCollision::add_pair(std::int32_t ia, std::int32_t ib,
 }
 
 void ContinuousCollision::test_pair(const Scene& scene, PairTest& test) const {
+  test_motions(scene, motions_[std::size_t(test.a)], motions_[std::size_t(test.b)], false, test);
+}
+
+void ContinuousCollision::test_motions(const Scene& scene, const RigidMotion& ma,
+                                       const RigidMotion& mb, bool closing_is_an_impact,
+                                       PairTest& test) const {
   const std::int32_t ia = test.a;
   const std::int32_t ib = test.b;
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
@@ -296,10 +602,17 @@ void ContinuousCollision::test_pair(const Scene& scene, PairTest& test) const {
   apart.max_iterations = 32;
   const BodyDesc& a = scene.bodies[std::size_t(ia)];
   const BodyDesc& b = scene.bodies[std::size_t(ib)];
-  const RigidMotion& ma = motions_[std::size_t(ia)];
-  const RigidMotion& mb = motions_[std::size_t(ib)];
   test.queries = 1;
   ToiResult r = time_of_impact(a.shape, ma, b.shape, mb, apart);
+  if (r.status == ToiStatus::overlapping && closing_is_an_impact &&
+      (ma.linear_velocity() - mb.linear_velocity()).dot(r.normal) < 0) {
+    // In a round after an impact nothing else will stop a pair that starts in touch and closes
+    // (the contacts come only with the next step): the impact is now.
+    test.hit = true;
+    test.time = 0;
+    test.normal = r.normal;
+    return;
+  }
   if (r.status == ToiStatus::overlapping) {
     // Planes and meshes (static only) have no thickness: the body against one sets the depth.
     // (A mesh counted as thickness 0 once made a body resting on it be stopped step after step

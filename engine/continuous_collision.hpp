@@ -18,18 +18,22 @@
 // a sphere's spin, and a capsule's or cylinder's about its own axis, moves no part of the space
 // it fills, so that part of the turn does not count).
 //
-// How the rest of the step is kept: time stealing. The body is put at its pose at the time of
-// impact (a small gap before contact); the rest of its motion in this step is given up. The
-// impact itself is resolved there and then, along the normal at the time of impact: the
-// centres' approach speed is reflected by the pair's restitution (zero below the restitution
-// threshold), by an impulse shared by the inverse masses. Leaving the approach to the next
-// step's solver relies on the narrow phase finding that contact, and it keeps one manifold per
-// pair, without the points whose normal is more than 60 degrees from the deepest one's
-// (contact_collector.hpp): a body wedged between two such mesh faces, stopped there step after
-// step, would keep every m/s gravity gave it until a knock set it free. Other bodies keep their
-// whole step. Sub-stepping the fast body through the rest of the step would keep the time but
-// needs the solver inside this stage; time stealing loses at most one step of a fast body's
-// motion at each impact, which is invisible at the speeds where it applies.
+// How the rest of the step is kept: by rounds of impacts. The body is put at its pose at the
+// time of impact (a small gap before contact), and the impact is resolved there and then, along
+// the normal at the time of impact: the centres' approach speed is reflected by the pair's
+// restitution (zero below the restitution threshold), by an impulse shared by the inverse
+// masses. Leaving the approach to the next step's solver relies on the narrow phase finding that
+// contact, and it keeps one manifold per pair, without the points whose normal is more than 60
+// degrees from the deepest one's (contact_collector.hpp): a body wedged between two such mesh
+// faces, stopped there step after step, would keep every m/s gravity gave it until a knock set
+// it free. Then both bodies of each impact move on from there through the rest of the step with
+// their new velocities, swept again against everything (another round), so that a chain of
+// impacts (a row of balls struck at speed, a ball into a corner) loses no time and tunnels
+// nowhere. In a round each group of bodies that may meet takes only its first hit (what that
+// impact changes may bring a member to an earlier meeting than the group's later hits); the
+// rest are found again in the next round, against the changed motions. After kMaxImpactRounds
+// a body still being hit stays where its last impact left it (the rest of its step given up).
+// docs/ccd.md, "Rounds of impacts".
 #pragma once
 
 #include <cstdint>
@@ -52,11 +56,17 @@ inline constexpr Real kAutoSweepFraction = Real(0.5);
 // many is swept, else by a broad-phase query per swept body.
 inline constexpr std::int64_t kSortAllFraction = 8;
 
+// After the first impacts, the bodies whose velocity an impact changed are swept again through
+// the rest of the step, up to this many rounds; a body still in a chain of impacts after them
+// gives up the rest of its step where it stands.
+inline constexpr int kMaxImpactRounds = 16;
+
 struct ContinuousCollisionCounts {
   std::int64_t swept_bodies = 0;     // bodies swept this step
   std::int64_t candidate_pairs = 0;  // pairs with a swept body whose boxes overlap
   std::int64_t toi_queries = 0;      // time-of-impact queries run
   std::int64_t stopped_bodies = 0;   // bodies moved back to a time of impact
+  std::int64_t impact_rounds = 0;    // rounds that swept bodies on after an impact
 };
 
 class ContinuousCollision {
@@ -102,11 +112,29 @@ class ContinuousCollision {
   };
   void add_pair(std::int32_t ia, std::int32_t ib, ContinuousCollisionCounts& counts);
   void test_pair(const Scene& scene, PairTest& test) const;
+  // `closing_is_an_impact`: a pair that starts in touch and closes is hit at once (in the
+  // rounds after an impact; in the first, the contacts take such pairs).
+  void test_motions(const Scene& scene, const RigidMotion& ma, const RigidMotion& mb,
+                    bool closing_is_an_impact, PairTest& test) const;
   void sort_and_sweep(ContinuousCollisionCounts& counts);
   void stop_at_earliest_times(const Model& model, std::vector<BodyState>& bodies,
-                              std::span<const BodyMass> masses,
-                              ContinuousCollisionCounts& counts) const;
+                              std::span<const BodyMass> masses, ContinuousCollisionCounts& counts);
   void record_hit(std::int32_t body, std::int32_t partner, Real time, const Vec3& normal);
+  // The impulse of an impact between i and j along n (towards i); false when they do not
+  // approach (or both are immovable).
+  bool resolve_impact(const Model& model, std::size_t i, std::size_t j, const Vec3& n,
+                      std::vector<BodyState>& bodies, std::span<const BodyMass> masses) const;
+  // A body whose velocity an impact changed moves on from its pose at move_time_ with it.
+  void move_on(std::size_t body, std::vector<BodyState>& bodies, Real dt);
+  // Body b's motion from step time `from` to the end of the step.
+  RigidMotion rest_of_motion(std::size_t b, Real from) const;
+  std::int32_t group_root(std::int32_t body);
+  // The box of a body's motion in this round (where it stands, for a static body).
+  Aabb round_box(const Scene& scene, std::int32_t body) const;
+  void sweep_on_after_impacts(const Model& model, const BroadPhase& broad_phase,
+                              Real unswept_travel, std::vector<BodyState>& bodies,
+                              std::span<const BodyMass> masses, const ParallelRunner& runner,
+                              ContinuousCollisionCounts& counts);
 
   bool enabled_ = false;
   PairSearch pair_search_ = PairSearch::automatic;
@@ -121,7 +149,30 @@ class ContinuousCollision {
   // normal at that time, towards the body (zero when the search stopped at its iteration cap).
   std::vector<std::int32_t> hit_partner_;
   std::vector<Vec3> hit_normal_;
-  std::vector<RigidMotion> motions_;      // each body's motion over the step
+  // Each body's motion over the step: from plan_from_ (a time in the step, 0 but after an
+  // impact) to the end, over its parameter 0 to 1.
+  std::vector<RigidMotion> motions_;
+  std::vector<Real> plan_from_;
+  std::vector<Real> move_time_;  // when an impact set the body moving on
+  // The bodies to sweep on in the next round, and in this one; 1 in moving_on_ while listed.
+  std::vector<std::int32_t> moving_on_list_, next_moving_on_;
+  std::vector<std::uint8_t> moving_on_;
+  std::vector<std::uint8_t> hit_this_round_;  // took a hit this round
+  // The groups of bodies that may meet in a round (union-find; -1 outside every pair), each
+  // root's box of its members' motions and whether its first hit has been seen.
+  std::vector<std::int32_t> group_of_;
+  std::vector<Aabb> group_box_;
+  std::vector<std::uint8_t> group_hit_;
+  std::vector<std::int32_t> grouped_;
+  std::vector<Aabb> changed_boxes_;     // the motions this round's impacts changed
+  std::vector<std::uint8_t> moved_on_;  // an impact set it moving this step
+  std::vector<std::int32_t> moved_on_list_;
+  struct RoundPair {
+    std::int32_t a = 0, b = 0;  // a is moving on; b may be too (then a < b)
+    Real from = 0;              // the step time both motions are tested from
+  };
+  std::vector<RoundPair> round_pairs_;
+  std::vector<std::uint32_t> round_order_;
   std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
   std::vector<std::int32_t> swept_list_;  // swept bodies, ascending
   std::vector<std::int32_t> found_;       // broad-phase query output

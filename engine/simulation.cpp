@@ -573,6 +573,7 @@ void Simulation::sweep_fast_bodies() {
   current_.swept_bodies += counts.swept_bodies;
   current_.ccd_candidate_pairs += counts.candidate_pairs;
   current_.stopped_bodies += counts.stopped_bodies;
+  current_.impact_rounds += counts.impact_rounds;
   if (counts.toi_queries == 0)
     timer.had_nothing_to_do(ran_before);  // nothing near a swept body: no sweep was needed
 }

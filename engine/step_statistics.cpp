@@ -65,6 +65,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   point_passes += o.point_passes;
   swept_bodies += o.swept_bodies;
   stopped_bodies += o.stopped_bodies;
+  impact_rounds += o.impact_rounds;
   ccd_candidate_pairs += o.ccd_candidate_pairs;
   split_loops += o.split_loops;
   max_substeps = std::max(max_substeps, o.max_substeps);

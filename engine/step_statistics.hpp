@@ -60,6 +60,7 @@ struct StepStatistics {
   std::int64_t point_passes = 0;         // contact points times the soft and relax passes over them
   std::int64_t swept_bodies = 0;         // bodies swept by continuous collision detection
   std::int64_t stopped_bodies = 0;       // of those, stopped at a time of impact
+  std::int64_t impact_rounds = 0;        // rounds that swept bodies on after impacts
   std::int64_t ccd_candidate_pairs = 0;  // pairs with a swept body whose motion boxes overlap
   std::int64_t split_loops = 0;          // loops of the step split over several threads
   int max_substeps = 0;                  // the most substeps any island took (the largest seen)

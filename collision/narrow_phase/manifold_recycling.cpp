@@ -13,6 +13,7 @@ RecyclableManifold make_recyclable(std::int32_t body_a, std::int32_t body_b, con
   r.relative_orientation = (a.rotation.conjugate() * b.rotation).normalized();
   r.normal = a.rotate_inverse(m.normal);
   r.count = m.count;
+  r.reusable = m.count > 1;
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& p = m.points[std::size_t(k)];
     // Differences first, so that bodies far from the origin keep their digits.
@@ -27,6 +28,8 @@ RecyclableManifold make_recyclable(std::int32_t body_a, std::int32_t body_b, con
 
 bool recycle(const RecyclableManifold& kept, const Transform& a, const Transform& b,
              Real max_distance, Real max_angle, Manifold& out) {
+  if (!kept.reusable)
+    return false;
   const Vec3 offset = b.translation - a.translation;
   const Vec3 relative_position = a.rotate_inverse(offset);
   if (!((relative_position - kept.relative_position).squaredNorm() <= max_distance * max_distance))

@@ -29,6 +29,10 @@ struct RecyclableManifold {
   std::array<Vec3, kMaxManifoldPoints> point_a{};  // on A's surface, A's frame
   std::array<Vec3, kMaxManifoldPoints> point_b{};  // on B's surface, B's frame
   std::array<FeatureId, kMaxManifoldPoints> feature{};
+  // A manifold of one point is not reused: its normal may be the direction between two edges'
+  // closest points, which turns as the edges slide along each other, not only with the
+  // relative rotation, so the recycling angle would not bound it.
+  bool reusable = true;
 };
 
 // The manifold `m` of bodies at poses `a` and `b`, in their frames.
