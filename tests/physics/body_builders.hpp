@@ -29,4 +29,15 @@ inline BodyDesc static_body(const std::string& name, const Shape& shape, const V
   return b;
 }
 
+// An empty world without gravity whose one material is frictionless with `restitution`, and
+// continuous collision on `auto`: for impacts whose outcome has a closed form.
+inline Scene frictionless_space(const std::string& source, Real restitution) {
+  Scene s;
+  s.source = source;
+  s.world.gravity = Vec3::Zero();
+  s.world.ccd = CcdMode::automatic;
+  s.materials.push_back(Material{"default", 0.0, restitution});
+  return s;
+}
+
 }  // namespace tumble::test

@@ -22,12 +22,7 @@ namespace {
 constexpr Real kRadius = 0.05;
 
 Scene chain_scene(Real restitution) {
-  Scene s;
-  s.source = "ccd_impact_chain_test";
-  s.world.gravity = Vec3::Zero();
-  s.world.ccd = CcdMode::automatic;
-  s.materials.push_back(Material{"default", 0.0, restitution});
-  return s;
+  return frictionless_space("ccd_impact_chain_test", restitution);
 }
 
 // Spheres on the x axis, each impact between neighbours taken exactly in time order, the

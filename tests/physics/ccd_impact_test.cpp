@@ -16,12 +16,7 @@ namespace tumble::test {
 namespace {
 
 Scene empty_scene(Real restitution) {
-  Scene s;
-  s.source = "ccd_impact_test";
-  s.world.gravity = Vec3::Zero();
-  s.world.ccd = CcdMode::automatic;
-  s.materials.push_back(Material{"default", 0.0, restitution});
-  return s;
+  return frictionless_space("ccd_impact_test", restitution);
 }
 
 TEST(CcdImpact, AStoppedBodyBouncesByTheRestitution) {
