@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "apps/json_text.hpp"
 #include "collision/ccd/mesh_ccd.hpp"
 #include "scenes/printable_text.hpp"
 
@@ -160,7 +161,7 @@ int ccd_command(const CcdOptions& options) {
     std::nth_element(boxes.begin(), boxes.begin() + boxes.size() / 2, boxes.end());
     out["boxes_median"] = boxes[boxes.size() / 2];
   }
-  std::cout << out.dump() << "\n";
+  std::cout << json_text(out) << "\n";
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "apps/atomic_file.hpp"
+#include "apps/json_text.hpp"
 #include "apps/number_format.hpp"
 #include "apps/oracle_metrics.hpp"
 #include "apps/scene_access.hpp"
@@ -236,8 +237,8 @@ int compare_command(const CompareOptions& options) {
   j["mismatches"] = r.mismatches;
   j["errors_csv"] = (dir / "errors.csv").string();
   j["timeline_csv"] = (dir / "timeline.csv").string();
-  write_file_atomically(dir / "summary.json", j.dump(2) + "\n");
-  std::cout << j.dump(2) << "\n";
+  write_file_atomically(dir / "summary.json", json_text(j, 2) + "\n");
+  std::cout << json_text(j, 2) << "\n";
   if (!options.quiet) {
     std::cerr << "tumble compare: " << r.verdict << "\n";
   }

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "apps/json_text.hpp"
 #include "collision/broad_phase/broad_phase_factory.hpp"
 
 namespace tumble::app {
@@ -75,7 +76,7 @@ void RunSummary::set_trajectory_bodies(const Scene& scene, const std::vector<int
 }
 
 std::string RunSummary::to_json() const {
-  return to_json_object(true).dump(2);
+  return json_text(to_json_object(true), 2);
 }
 
 nlohmann::json RunSummary::to_json_object(bool timings) const {

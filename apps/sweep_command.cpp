@@ -17,6 +17,7 @@
 #include "apps/atomic_file.hpp"
 #include "apps/compare_command.hpp"
 #include "apps/csv_field.hpp"
+#include "apps/json_text.hpp"
 #include "apps/number_format.hpp"
 #include "apps/run_summary.hpp"
 #include "apps/scene_access.hpp"
@@ -278,7 +279,7 @@ double execute(const SweepSpec& spec, const std::string& digest, const PlannedRu
               .dump(2) +
           "\n");
   // Last: the summary marks the run complete.
-  write_file_atomically(dir / "summary.json", result.dump(2) + "\n");
+  write_file_atomically(dir / "summary.json", json_text(result, 2) + "\n");
   return wall;
 }
 
