@@ -309,7 +309,8 @@ TEST(Cli, ASceneFileNameThatIsNotUtf8IsWrittenAsTheReplacementCharacter) {
   const fs::path dir = scratch_dir("not_utf8");
   const fs::path scene = dir / "scene\xff\xfe.yaml";  // bytes no UTF-8 text holds
   fs::copy_file(kScenes + "free_flight.yaml", scene);
-  const Result r = run_cli("run '" + scene.string() + "' -q --steps 3 -o " + (dir / "out").string());
+  const Result r =
+      run_cli("run '" + scene.string() + "' -q --steps 3 -o " + (dir / "out").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   const std::string summary = read_file(dir / "out" / "summary.json");
   EXPECT_NE(summary.find("scene\xef\xbf\xbd\xef\xbf\xbd.yaml"), std::string::npos) << summary;
