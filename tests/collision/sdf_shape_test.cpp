@@ -3,13 +3,17 @@
 // spheres, planes and fields against fields where it is known exactly (fixed seeds).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <numbers>
 #include <random>
 
 #include "collision/narrow_phase/narrow_phase.hpp"
 #include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 #include "tests/property_scale.hpp"
 #include "tumble/error.hpp"
 
@@ -204,6 +208,37 @@ TEST(SdfContact, TwoFieldSpheresHaveTheExactDepth) {
     worst = std::max(worst, std::abs(deepest_point_depth(m, n) - depth));
   }
   EXPECT_LT(worst, 1e-6) << "largest depth error " << worst << " m";
+}
+
+TEST(SdfContact, AFieldOnAMeshFloorHasTheExactDepth) {
+  // A field ball of radius 0.5 on a flat two-triangle mesh floor (z = 0): the contact is as deep
+  // as the ball's bottom is below the floor, wherever the ball stands on it and however the
+  // field is turned (the surface points near the bottom are walked to it).
+  const Shape floor = Shape::triangle_mesh(std::make_shared<const TriangleMesh>(TriangleMesh::build(
+      {Vec3(-3, -3, 0), Vec3(3, -3, 0), Vec3(3, 3, 0), Vec3(-3, 3, 0)}, {{0, 1, 2}, {0, 2, 3}})));
+  const Shape ball = sdf_shape(SdfNode::sphere(0.5));
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  const int cases = scaled(1000);
+  Real worst = 0, worst_tilt = 0;
+  for (int i = 0; i < cases; ++i) {
+    const Real depth = 0.025 * (u(rng) + 1);  // 0 to 5 cm
+    const Transform pose_b{Vec3(2 * u(rng), 2 * u(rng), 0.5 - depth), field_test_rotation(rng)};
+    Manifold m;
+    const int n = collide(floor, Transform{}, ball, pose_b, 0.01, m);
+    ASSERT_GT(n, 0) << "case " << i;
+    // From B (the ball) to A (the floor): down.
+    worst_tilt = std::max(worst_tilt, std::acos(std::clamp(-m.normal.z(), Real(-1), Real(1))));
+    worst = std::max(worst, std::abs(deepest_point_depth(m, n) - depth));
+  }
+  std::printf("field ball on a mesh floor: depth within %.3g m, normal within %.3g rad\n", worst,
+              worst_tilt);
+  EXPECT_LT(worst, 1e-5) << "largest depth error " << worst << " m";
+  // A known imprecision, bounded here so it cannot grow unseen: the manifold's normal is the
+  // depth-weighted mean of its candidates', and the floor's points around the ball's bottom,
+  // measured in the field, bring grad phi tilted towards the ball's centre; measured up to
+  // 23 mrad (docs/sdf.md, "Not yet").
+  EXPECT_LT(worst_tilt, 0.03);
 }
 
 TEST(SdfContact, ABallsSeparationBendsAsTheNarrowPhaseMeasuresIt) {
