@@ -40,10 +40,10 @@ struct Manifold {
   int count = 0;
   std::array<ContactPoint, kMaxManifoldPoints> points{};
   // How the separation bends as A moves relative to B: its second derivative with respect to
-  // that displacement (world; xx, xy, xz, yy, yz, zz) [1/m]. Zero but where a round shape's core
+  // that displacement (world, packed) [1/m]. Zero but where a round shape's core
   // is measured in a curved field; there the solver follows the surface through the step
   // instead of its tangent plane (docs/architecture.md, "Curved contacts").
-  std::array<Real, 6> separation_curvature{};
+  PackedSymmetric separation_curvature{};
 
   void add(const Vec3& position, Real depth, FeatureId feature) {
     if (count < kMaxManifoldPoints)

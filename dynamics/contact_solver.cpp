@@ -46,11 +46,9 @@ ContactSolver::Coefficients coefficients_of(const ContactSolverSettings& setting
 // tangent plane's when it does not slide: the one number the passes need to follow the surface
 // through the step (docs/architecture.md, "Curved contacts").
 Real sliding_curvature(const Manifold& manifold, const Vec3& relative_velocity) {
-  const std::array<Real, 6>& c = manifold.separation_curvature;
-  if (c == std::array<Real, 6>{})
+  if (manifold.separation_curvature == PackedSymmetric{})
     return 0;
-  Mat3 h;
-  h << c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5];
+  const Mat3 h = unpacked_symmetric(manifold.separation_curvature);
   const Vec3& n = manifold.normal;
   const Vec3 sliding = relative_velocity - relative_velocity.dot(n) * n;
   const Real speed_squared = sliding.squaredNorm();
@@ -161,8 +159,8 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   m.curvature = sliding_curvature(pc.manifold, sa.velocity - sb.velocity);
   const Mat3& ia = inverse_inertia_world[std::size_t(a)];
   const Mat3& ib = inverse_inertia_world[std::size_t(b)];
-  m.inv_inertia_a = {ia(0, 0), ia(0, 1), ia(0, 2), ia(1, 1), ia(1, 2), ia(2, 2)};
-  m.inv_inertia_b = {ib(0, 0), ib(0, 1), ib(0, 2), ib(1, 1), ib(1, 2), ib(2, 2)};
+  m.inv_inertia_a = packed_symmetric(ia);
+  m.inv_inertia_b = packed_symmetric(ib);
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
   std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
   for (int k = 0; k < m.count; ++k) {

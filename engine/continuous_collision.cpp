@@ -224,7 +224,8 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
 // Sort and sweep on x (Baraff 1992; Cohen et al., I-COLLIDE 1995) over entries_, testing the
 // overlapping pairs with a swept body. Ties sort by body index so the order is fixed; the times
 // found do not depend on the order anyway (each body keeps its earliest).
-void ContinuousCollision::sort_and_sweep(ContinuousCollisionCounts& counts) {
+template <class Pair>
+void ContinuousCollision::sort_and_sweep(Pair&& pair) {
   std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
     return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
   });
@@ -238,9 +239,15 @@ void ContinuousCollision::sort_and_sweep(ContinuousCollisionCounts& counts) {
         break;
       if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
         continue;
-      add_pair(std::min(e.id, f.id), std::max(e.id, f.id), counts);
+      pair(e, f);
     }
   }
+}
+
+void ContinuousCollision::sort_and_sweep(ContinuousCollisionCounts& counts) {
+  sort_and_sweep([&](const SweepEntry& e, const SweepEntry& f) {
+    add_pair(std::min(e.id, f.id), std::max(e.id, f.id), counts);
+  });
 }
 
 void ContinuousCollision::record_hit(std::int32_t body, std::int32_t partner, Real time,
@@ -398,10 +405,7 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
         const std::size_t j = std::size_t(b);
         if (b == a || swept_[j] || moved_on_[j] || model.is_removed(j))
           continue;
-        const BodyDesc& d = scene.bodies[j];
-        if (d.shape.is_bounded() &&
-            !swept_boxes_[i].overlaps(d.is_static ? world_aabb(d.shape, motions_[j].start())
-                                                  : motion_box(d.shape, motions_[j], radius_[j])))
+        if (scene.bodies[j].shape.is_bounded() && !swept_boxes_[i].overlaps(round_box(scene, b)))
           continue;
         add_round_pair(a, b);
       }
@@ -417,24 +421,13 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
       if (!moving_on_[std::size_t(b)] && !swept_[std::size_t(b)])
         entries_.push_back({swept_boxes_[std::size_t(b)], b, 0});
     }
-    std::sort(entries_.begin(), entries_.end(), [](const SweepEntry& p, const SweepEntry& q) {
-      return p.box.min.x() < q.box.min.x() || (p.box.min.x() == q.box.min.x() && p.id < q.id);
+    sort_and_sweep([&](const SweepEntry& e, const SweepEntry& f) {
+      // The body moving on first (the lower index when both are).
+      if (e.swept && (!f.swept || e.id < f.id))
+        add_round_pair(e.id, f.id);
+      else
+        add_round_pair(f.id, e.id);
     });
-    for (std::size_t k = 0; k < entries_.size(); ++k) {
-      const SweepEntry& e = entries_[k];
-      for (std::size_t j = k + 1; j < entries_.size(); ++j) {
-        const SweepEntry& f = entries_[j];
-        if (f.box.min.x() > e.box.max.x())
-          break;
-        if ((e.swept | f.swept) == 0 || !e.box.overlaps(f.box))
-          continue;
-        // The body moving on first (the lower index when both are).
-        if (e.swept && (!f.swept || e.id < f.id))
-          add_round_pair(e.id, f.id);
-        else
-          add_round_pair(f.id, e.id);
-      }
-    }
     counts.candidate_pairs += static_cast<std::int64_t>(round_pairs_.size());
     tests_.assign(round_pairs_.size(), PairTest{});
     constexpr std::int32_t kPairsPerChunk = 16;

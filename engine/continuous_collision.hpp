@@ -116,6 +116,9 @@ class ContinuousCollision {
   // rounds after an impact; in the first, the contacts take such pairs).
   void test_motions(const Scene& scene, const RigidMotion& ma, const RigidMotion& mb,
                     bool closing_is_an_impact, PairTest& test) const;
+  // Sorts entries_ on x and calls `pair(e, f)` for each two whose boxes overlap, one swept.
+  template <class Pair>
+  void sort_and_sweep(Pair&& pair);
   void sort_and_sweep(ContinuousCollisionCounts& counts);
   void stop_at_earliest_times(const Model& model, std::vector<BodyState>& bodies,
                               std::span<const BodyMass> masses, ContinuousCollisionCounts& counts);

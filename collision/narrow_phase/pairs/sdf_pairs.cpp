@@ -296,19 +296,10 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
   }
 }
 
-// R S R^T for a symmetric S packed as xx, xy, xz, yy, yz, zz.
-std::array<Real, 6> rotated_symmetric(const Quat& rotation, const std::array<Real, 6>& s) {
-  Mat3 m;
-  m << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
-  const Mat3 r = rotation.toRotationMatrix();
-  const Mat3 turned = r * m * r.transpose();
-  return {turned(0, 0), turned(0, 1), turned(0, 2), turned(1, 1), turned(1, 2), turned(2, 2)};
-}
-
-// The field's second derivatives at x (xx, xy, xz, yy, yz, zz), by central differences of its
-// gradient `step` apart, symmetrised. Where the field has a ridge between the samples (a kink of
-// a CSG union or difference) the differences say so with a large value; the caller bounds it.
-std::array<Real, 6> field_hessian(const SdfShape& field, const Vec3& x, Real time, Real step) {
+// The field's second derivatives at x, by central differences of its gradient `step` apart,
+// symmetrised. Where the field has a ridge between the samples (a kink of a CSG union or
+// difference) the differences say so with a large value; the caller bounds it.
+Mat3 field_hessian(const SdfShape& field, const Vec3& x, Real time, Real step) {
   Mat3 columns;
   for (int i = 0; i < 3; ++i) {
     const Vec3 offset = Vec3::Unit(i) * step;
@@ -316,8 +307,7 @@ std::array<Real, 6> field_hessian(const SdfShape& field, const Vec3& x, Real tim
         (field.sample(x + offset, time).gradient - field.sample(x - offset, time).gradient) /
         (2 * step);
   }
-  const Mat3 h = (columns + columns.transpose()) * Real(0.5);
-  return {h(0, 0), h(0, 1), h(0, 2), h(1, 1), h(1, 2), h(2, 2)};
+  return (columns + columns.transpose()) * Real(0.5);
 }
 
 // A (sphere, box, capsule, plane, cylinder, hull) against the SDF B, in B's frame.
@@ -393,17 +383,12 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
     // them reads as a curvature of up to 2 / step, which is bounded to the sharpest a surface
     // the core can follow may have (1 / step).
     const Real step = Real(0.25) * std::min(a.radius, field.cell_size());
-    std::array<Real, 6> h = field_hessian(field, deepest_core, time, step);
-    Real squared = 0;
-    for (int k = 0; k < 6; ++k)
-      squared += (k == 1 || k == 2 || k == 4 ? 2 : 1) * h[std::size_t(k)] * h[std::size_t(k)];
+    Mat3 h = field_hessian(field, deepest_core, time, step);
+    const Real squared = h.squaredNorm();
     const Real limit = 1 / step;
-    if (!(squared <= limit * limit)) {
-      const Real scale = std::isfinite(squared) ? limit / std::sqrt(squared) : Real(0);
-      for (Real& v : h)
-        v *= scale;
-    }
-    out.separation_curvature = h;
+    if (!(squared <= limit * limit))
+      h *= std::isfinite(squared) ? limit / std::sqrt(squared) : Real(0);
+    out.separation_curvature = packed_symmetric(h);
   }
   return count;
 }
@@ -483,7 +468,9 @@ int any_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   out.normal = pose_b.rotate(out.normal);
   for (int i = 0; i < count; ++i)
     out.points[i].position = pose_b.apply(out.points[i].position);
-  out.separation_curvature = rotated_symmetric(pose_b.rotation, out.separation_curvature);
+  const Mat3 turn = pose_b.rotation.toRotationMatrix();
+  out.separation_curvature =
+      packed_symmetric(turn * unpacked_symmetric(out.separation_curvature) * turn.transpose());
   return count;
 }
 
