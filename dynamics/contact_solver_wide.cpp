@@ -22,21 +22,37 @@ namespace tumble {
 
 namespace {
 namespace lanes8 {
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx512f")
+#endif
 constexpr int kLanes = 8;
 #include "dynamics/contact_solver_lanes.inc"
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 }  // namespace lanes8
 }  // namespace
 
 namespace {
 namespace lanes4 {
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 constexpr int kLanes = 4;
 #include "dynamics/contact_solver_lanes.inc"
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 }  // namespace lanes4
 }  // namespace
 

@@ -11,8 +11,9 @@ namespace {
 // Aabb::overlaps without short-circuit branches: in the inner loops the outcome is close to a
 // coin flip per comparison, and six well-predicted-or-not branches cost more than six compares.
 inline bool touch(const Aabb& a, const Aabb& b) {
-  return (a.min.x() <= b.max.x()) & (b.min.x() <= a.max.x()) & (a.min.y() <= b.max.y()) &
-         (b.min.y() <= a.max.y()) & (a.min.z() <= b.max.z()) & (b.min.z() <= a.max.z());
+  return (int(a.min.x() <= b.max.x()) & int(b.min.x() <= a.max.x()) & int(a.min.y() <= b.max.y()) &
+          int(b.min.y() <= a.max.y()) & int(a.min.z() <= b.max.z()) &
+          int(b.min.z() <= a.max.z())) != 0;
 }
 
 // A node's own list longer than this is sorted by min along its longest axis, so the loops over

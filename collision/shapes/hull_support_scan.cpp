@@ -5,7 +5,13 @@
 // -Wuninitialized reports as a use of an uninitialised value (GCC bug 105593, fixed in 13).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#if defined(__clang__)
+// clang counts a version of a multi-versioned function in an anonymous namespace as unused
+// (only the dispatcher reaches it).
+#pragma clang diagnostic ignored "-Wunused-function"
+#else
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <immintrin.h>
 
 #include <algorithm>
@@ -273,32 +279,6 @@ __attribute__((target("avx2,fma"))) int smallest(const Real* values, int padded_
   return smallest4(values, padded_count);
 }
 
-}  // namespace
-
-// Outside the anonymous namespace and before the pragma pop: the per-version entry points for
-// tests.
-namespace detail {
-
-__attribute__((target("avx512f,fma"))) int scan_support_avx512(const HullScanArrays& h,
-                                                               const Vec3& d) {
-  return scan8(h, d);
-}
-__attribute__((target("avx2,fma"))) int scan_support_avx2(const HullScanArrays& h, const Vec3& d) {
-  return scan4(h, d);
-}
-__attribute__((target("avx512f,fma"))) int first_smallest_avx512(const Real* values, int count) {
-  return smallest8(values, count);
-}
-__attribute__((target("avx2,fma"))) int first_smallest_avx2(const Real* values, int count) {
-  return smallest4(values, count);
-}
-
-}  // namespace detail
-
-namespace {
-
-#pragma GCC diagnostic pop
-
 // The baseline (SSE2): the portable loop.
 __attribute__((target("default"))) int scan(const HullScanArrays& h, const Vec3& d) {
   return scan_support_portable(h, d);
@@ -325,7 +305,30 @@ __attribute__((target("default"))) SupportPair scan_pair(const HullScanArrays& a
                                                          const HullScanArrays& b, const Vec3& db) {
   return {scan_support_portable(a, da), scan_support_portable(b, db)};
 }
+
 }  // namespace
+
+// Outside the anonymous namespace and before the pragma pop: the per-version entry points for
+// tests.
+namespace detail {
+
+__attribute__((target("avx512f,fma"))) int scan_support_avx512(const HullScanArrays& h,
+                                                               const Vec3& d) {
+  return scan8(h, d);
+}
+__attribute__((target("avx2,fma"))) int scan_support_avx2(const HullScanArrays& h, const Vec3& d) {
+  return scan4(h, d);
+}
+__attribute__((target("avx512f,fma"))) int first_smallest_avx512(const Real* values, int count) {
+  return smallest8(values, count);
+}
+__attribute__((target("avx2,fma"))) int first_smallest_avx2(const Real* values, int count) {
+  return smallest4(values, count);
+}
+
+}  // namespace detail
+
+#pragma GCC diagnostic pop
 
 int scan_support_portable(const HullScanArrays& h, const Vec3& d) {
   Real best = kLowest;
