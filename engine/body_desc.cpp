@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "collision/shapes/shape.hpp"
+#include "engine/number_text.hpp"
 #include "tumble/error.hpp"
 #include "tumble/scene.hpp"
 
@@ -22,7 +23,7 @@ BodyDesc dynamic_body(std::string name, Shape shape, Real density) {
   require_bounded(shape, name, "dynamic");
   if (!(std::isfinite(density) && density > 0))
     throw Error("body '" + name + "': density must be positive and finite, got " +
-                std::to_string(density));
+                number_text(density));
   BodyDesc d;
   d.name = std::move(name);
   d.mass = density * volume(shape);

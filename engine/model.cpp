@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "collision/shapes/shape.hpp"
+#include "engine/number_text.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -94,11 +95,11 @@ void Model::derive() {
       // A user's rule is checked like a material: the solver assumes these ranges.
       if (!(mu >= 0 && mu <= 100))
         throw SceneError(s.source, 0, 0, "friction_mixing",
-                         "the rule gave " + std::to_string(mu) + " for materials '" + ma.name +
+                         "the rule gave " + number_text(mu) + " for materials '" + ma.name +
                              "' and '" + mb.name + "'; expected 0 to 100");
       if (!(e >= 0 && e <= 1))
         throw SceneError(s.source, 0, 0, "restitution_mixing",
-                         "the rule gave " + std::to_string(e) + " for materials '" + ma.name +
+                         "the rule gave " + number_text(e) + " for materials '" + ma.name +
                              "' and '" + mb.name + "'; expected 0 to 1");
       friction_[a * material_count_ + b] = mu;
       restitution_[a * material_count_ + b] = e;

@@ -15,10 +15,15 @@
 namespace tumble {
 namespace {
 
-// tinyobjloader reads a coordinate it cannot parse ("nan", "abc") as 0 and wraps an index too
-// large for an int: the records it would misread are checked first, each refused with its line.
-void check_records(const std::string& text, const std::string& name) {
+// tinyobjloader reads a coordinate it cannot parse ("nan", "abc") as 0, wraps an index too large
+// for an int, and converts a record it parses as float to int without a range check (a vertex
+// weight's joint id): the records tumble uses are checked first, each refused with its line,
+// and the library is given those alone, rewritten: `v x y z` and `f` with the vertex numbers of
+// its corners. Every other record (normals, texture coordinates, groups, materials) is blank.
+std::string checked_records(const std::string& text, const std::string& name) {
   std::istringstream lines(text);
+  std::string kept;
+  kept.reserve(text.size());
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
     std::istringstream fields(line);
@@ -29,16 +34,19 @@ void check_records(const std::string& text, const std::string& name) {
                      why);
     };
     if (tag == "v") {
+      kept += 'v';
       int count = 0;
-      for (std::string token; fields >> token && count < 3; ++count) {
+      for (std::string token; count < 3 && fields >> token; ++count) {
         double value = 0;
         const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
         if (error != std::errc() || end != token.data() + token.size() || !std::isfinite(value))
           refuse("vertex coordinate " + std::to_string(count + 1) + " is not a finite number");
+        kept.append(" ").append(token);
       }
       if (count < 3)
         refuse("a vertex needs three coordinates");
     } else if (tag == "f") {
+      kept += 'f';
       for (std::string token; fields >> token;) {
         const std::string first = token.substr(0, token.find('/'));
         long long index = 0;
@@ -48,9 +56,12 @@ void check_records(const std::string& text, const std::string& name) {
           refuse("face vertex '" + printable(first) +
                  "' is not a vertex number (1 to 2147483647, or "
                  "negative to count back)");
+        kept.append(" ").append(first);
       }
     }
+    kept += '\n';  // one line for each of the file's, so that the library's line numbers hold
   }
+  return kept;
 }
 
 }  // namespace
@@ -59,13 +70,13 @@ namespace {
 
 // The vertices and triangles of the text, faces or none.
 ObjMesh parse_obj(const std::string& text, const std::string& name) {
-  check_records(text, name);
+  const std::string records = checked_records(text, name);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
   tinyobj::ObjReader reader;
   // No material text: a mesh is geometry only, and no other file is opened behind the scene's back.
-  if (!reader.ParseFromString(text, "", config) || !reader.Valid()) {
+  if (!reader.ParseFromString(records, "", config) || !reader.Valid()) {
     std::string why = reader.Error();
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r'))
       why.pop_back();

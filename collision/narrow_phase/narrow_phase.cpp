@@ -23,7 +23,9 @@
 
 #include "collision/narrow_phase/compound_collide.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
+#include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 
 namespace tumble {
 
@@ -55,13 +57,20 @@ bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
 // decide first (they never change, so the order is stable for the life of the pair); equal shapes
 // are ordered by their poses.
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
-  // Hulls are told apart by content (volume, vertex count), never by address, so the order is
-  // the same in every run.
+  // Hulls, compounds and fields are told apart by content (volume, vertex or part count), never
+  // by address, so the order is the same in every run. Two that differ only where these do not
+  // look (two fields of one volume) fall to their poses, and twins (the same shape at the same
+  // pose) have no order.
   const auto dimensions = [](const Shape& s) {
     const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
     const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
+    const Real compound_volume = s.compound ? s.compound->volume() : Real(0);
+    const int compound_parts = s.compound ? int(s.compound->parts().size()) : 0;
+    const Real field_volume = s.sdf ? s.sdf->volume() : Real(0);
+    const Real field_radius = s.sdf ? s.sdf->bounding_radius() : Real(0);
     return std::make_tuple(s.radius, s.half_length, s.half_extents.x(), s.half_extents.y(),
-                           s.half_extents.z(), hull_volume, hull_vertices);
+                           s.half_extents.z(), hull_volume, hull_vertices, compound_volume,
+                           compound_parts, field_volume, field_radius);
   };
   if (dimensions(a) != dimensions(b))
     return dimensions(a) < dimensions(b);

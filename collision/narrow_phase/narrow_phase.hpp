@@ -12,9 +12,10 @@ namespace tumble {
 // whose signed depth is at least -margin (they are closer than `margin` or penetrate), and
 // returns out.count. The normal points from B to A; calling with A and B swapped flips the
 // normal and swaps feature ids and changes nothing else (bit for bit: both orders run the same
-// arithmetic). The query runs in a frame centred on one of the two shapes (the first in the
-// pair function's own order), so that bodies far from the origin keep their precision. Planes
-// never collide with planes.
+// arithmetic), but for twins, the same shape at the same pose, where nothing tells A from B and
+// the normal is the same either way. The query runs in a frame centred on one of the two shapes
+// (the first in the pair function's own order), so that bodies far from the origin keep their
+// precision. Planes never collide with planes.
 int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out);
 

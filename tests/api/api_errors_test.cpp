@@ -116,5 +116,17 @@ TEST(ApiErrors, ShapeBuildersRejectBadData) {
   EXPECT_THROW(dynamic_body("s", Shape::sphere(1), -5), Error);
 }
 
+// Found by tests/fuzz/fuzz_short_scene: a density of -1.8e308 was written out in its 309 digits.
+// A number in an error message reads as the shortest text that gives back the same double.
+TEST(ApiErrors, AnExtremeDensityIsWrittenShortly) {
+  try {
+    dynamic_body("s", Shape::sphere(1), -std::numeric_limits<Real>::max());
+    FAIL() << "a negative density was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "body 's': density must be positive and finite, got -1.7976931348623157e+308");
+  }
+}
+
 }  // namespace
 }  // namespace tumble

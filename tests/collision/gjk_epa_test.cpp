@@ -451,5 +451,29 @@ TEST(Gjk, CylinderOnACylindersSideNearlyTouchingHasTheExactDistance) {
       poses, worst[0], worst[1]);
 }
 
+// Found by tests/fuzz/fuzz_gjk_epa: a point set with a sliver of three vertices within 4e-6 m of
+// each other, one of whose vertices lies exactly on the other set (a single point). The true
+// distance is 0; GJK stops at 9e-7 m, on a problem 2.9 m across, because the lower bound v.w is
+// then below the rounding its restart test allows for (gjk.hpp states the exception). The
+// bound: 1e-6 of the size, and never a distance below zero or above the nearest pair's.
+TEST(Gjk, ASliverTouchingAPointStopsWithinAMillionthOfTheSize) {
+  const std::array<Vec3, 7> a{
+      Vec3(-1.9247685393011653, 0.55185671406536874, -1.9247721399057183),
+      Vec3(-1.9247685393011653, 0.55185900535917498, -1.9247685444156606),
+      Vec3(-1.9247685393011653, 0.55185671406574088, -1.9247685393011655),
+      Vec3(0.68645591261789818, -2.0593677378536945, 0.6864559126178984),
+      Vec3(0.68645591261789818, -2.0593677378536945, 0.6864559126178984),
+      Vec3(0.68645591261789818, 0.93967032628351888, 0.021451747269309207),
+      Vec3(-1.3729118252357964, -1.1102230246251565e-16, -1.3729118252357964)};
+  const std::array<Vec3, 1> b{a[6]};
+  const GjkResult r = gjk(ConvexSupport::of_points(a.data(), int(a.size()), Transform{}),
+                          ConvexSupport::of_points(b.data(), 1, Transform{}));
+  Real size = 0;
+  for (const Vec3& p : a)
+    size = std::max(size, p.norm());
+  EXPECT_GE(r.distance, 0);
+  EXPECT_LE(r.distance, Real(1e-6) * size);
+}
+
 }  // namespace
 }  // namespace tumble::testing

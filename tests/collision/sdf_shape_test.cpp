@@ -292,5 +292,28 @@ TEST(SdfContact, ABallsSeparationBendsAsTheNarrowPhaseMeasuresIt) {
   EXPECT_GT(saddles, cases / 5);
 }
 
+// Found by tests/fuzz/fuzz_narrow_phase: two different fields at the same pose ran in argument
+// order (their shapes' dimensions, all zero for fields, and their poses tied), so swapping A and B
+// changed the points instead of flipping the normal. Fields are now ordered by their volume.
+TEST(SdfContact, TwoDifferentFieldsAtOnePoseGiveTheSameContactsEitherWay) {
+  const Shape torus = sdf_shape(SdfNode::torus(1, Real(0.25)));
+  const Shape bowl = sdf_shape(SdfNode::combine(
+      SdfKind::difference_of,
+      {SdfNode::box({1, 1, Real(0.5)}),
+       SdfNode::sphere(Real(0.9)).placed(Transform{Vec3(0, 0, Real(0.6)), Quat::Identity()})}));
+  for (const Vec3& offset : {Vec3(0, 0, 0), Vec3(-4, -4, -4), Vec3(0.1, 0, 0.2)}) {
+    const Transform pose{offset, Quat::Identity()};
+    Manifold ab;
+    Manifold ba;
+    ASSERT_GT(collide(torus, pose, bowl, pose, Real(0.005), ab), 0);
+    ASSERT_EQ(collide(bowl, pose, torus, pose, Real(0.005), ba), ab.count);
+    EXPECT_EQ(ab.normal, Vec3(-ba.normal));
+    for (int i = 0; i < ab.count; ++i) {
+      EXPECT_EQ(ab.points[i].position, ba.points[i].position);
+      EXPECT_EQ(ab.points[i].depth, ba.points[i].depth);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tumble

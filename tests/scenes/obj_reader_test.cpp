@@ -37,6 +37,20 @@ TEST(ObjReader, RefusesRecordsTheLibraryWouldMisread) {
   EXPECT_EQ(mesh.triangles[0][2], 2);
 }
 
+// Found by tests/fuzz/fuzz_obj_reader: tinyobjloader converted a vertex weight's joint id
+// (`vw`) to int without a range check, undefined behaviour for 4.5e10. The reader now gives the
+// library only the records it checked (v and f): the others are ignored, whatever they hold.
+TEST(ObjReader, RecordsTumbleDoesNotUseAreNotParsed) {
+  const ObjMesh mesh = read_obj_string(
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 45555555555 1e300 x\nvt 1e999 nan\nvn q r s\n"
+      "usemtl nowhere\nmtllib /etc/passwd\nl 1 99999999999\nf 1/1e99/zz 2 3\n",
+      "others.obj");
+  ASSERT_EQ(mesh.vertices.size(), 3u);
+  ASSERT_EQ(mesh.triangles.size(), 1u);
+  EXPECT_EQ(mesh.triangles[0][0], 0);
+  EXPECT_EQ(mesh.triangles[0][2], 2);
+}
+
 TEST(ObjReader, RefusesPathsThatAreNotRegularFiles) {
   const std::filesystem::path fifo =
       std::filesystem::temp_directory_path() / ("tumble_obj_fifo_" + std::to_string(::getpid()));
