@@ -255,6 +255,34 @@ TEST(MeshContact, EdgeRulesKeepFlattenOrDropEdgeContacts) {
   EXPECT_EQ(run(EdgeKind::concave, concave), 0);
 }
 
+// A box apart from a triangle, its bottom edge 1 mm beside and 1 mm above the triangle's edge 0
+// (the box's corners there are nearest, tied with its bottom edge). The closest features are on
+// the triangle's edge, so the edge rules apply as for the sphere above. GCC evaluated the
+// arguments of the call that offered a box corner right to left and labelled every corner's
+// closest point as the face: the box got the face normal beside a boundary edge, and a contact
+// beside a concave one (found by comparing clang's golden hashes with g++'s).
+TEST(MeshContact, ABoxCornerBesideAnEdgeFollowsTheEdgeRules) {
+  detail::TriangleView tri{};
+  tri.normal = Vec3::UnitZ();
+  tri.corner_active = {true, true, true};
+  const Vec3 centre(0, Real(-0.101), Real(0.101));  // the box's, half extent 0.1
+  const std::array<Vec3, 3> world{Vec3(-1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  for (int k = 0; k < 3; ++k)
+    tri.corner[k] = world[k] - centre;
+  const Shape box = Shape::box(Vec3::Constant(Real(0.1)));
+  const auto run = [&](EdgeKind kind, detail::TriangleContact& contact) {
+    detail::TriangleView t = tri;
+    t.edge = {kind, EdgeKind::boundary, EdgeKind::boundary};
+    return detail::box_triangle(box, t, Real(0.005), contact);
+  };
+  detail::TriangleContact boundary;
+  ASSERT_GE(run(EdgeKind::boundary, boundary), 1);
+  EXPECT_LE((boundary.normal - Vec3(0, -1, 1).normalized()).norm(), 1e-9);
+  EXPECT_NEAR(boundary.depth[0], -Real(0.001) * std::sqrt(Real(2)), 1e-12);
+  detail::TriangleContact concave;
+  EXPECT_EQ(run(EdgeKind::concave, concave), 0);
+}
+
 // Swap contract: collide(b, a) is collide(a, b) mirrored, bit for bit.
 void expect_mirrored(const Shape& a, const Transform& pa, const Shape& b, const Transform& pb) {
   Manifold ab;

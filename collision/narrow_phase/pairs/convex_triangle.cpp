@@ -98,9 +98,12 @@ ClosestFeatures closest_box_triangle(const Vec3& h, const std::array<Vec3, 3>& u
                 (bits & 4) ? h.z() : -h.z());
   };
   for (int bits = 0; bits < 8; ++bits) {
+    // The closest point first: it sets `region`, and the order in which a call's arguments are
+    // evaluated is unspecified (GCC read `region` before the call set it, clang after).
     TriangleRegion region = TriangleRegion::face;
     const Vec3 corner = corner_of(bits);
-    offer(corner, closest_point_on_triangle(corner, u, region), feature::box_vertex(bits), region);
+    const Vec3 on_triangle = closest_point_on_triangle(corner, u, region);
+    offer(corner, on_triangle, feature::box_vertex(bits), region);
   }
   for (int k = 0; k < 3; ++k) {
     const Vec3 clamped = u[k].cwiseMax(-h).cwiseMin(h);
