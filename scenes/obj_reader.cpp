@@ -15,14 +15,22 @@
 namespace tumble {
 namespace {
 
-// tinyobjloader reads a coordinate it cannot parse ("nan", "abc") as 0, wraps an index too large
-// for an int, and converts a record it parses as float to int without a range check (a vertex
-// weight's joint id): the records tumble uses are checked first, each refused with its line,
-// and the library is given those alone, rewritten: `v x y z` and `f` with the vertex numbers of
-// its corners. Every other record (normals, texture coordinates, groups, materials) is blank.
-std::string checked_records(const std::string& text, const std::string& name) {
+// tinyobjloader reads a coordinate it cannot parse ("nan", "abc") as 0, reads 0e1001 as NaN,
+// wraps an index too large for an int, and converts a record it parses as float to int without a
+// range check (a vertex weight's joint id): the records tumble uses are checked first, each
+// refused with its line, and the library is given those alone, rewritten: `v x y z` and `f` with
+// the vertex numbers of its corners. Every other record (normals, texture coordinates, groups,
+// materials) is blank. The vertices are the ones read here (std::from_chars, correctly rounded);
+// the library's own reading of them is not used.
+struct CheckedRecords {
+  std::string text;
+  std::vector<Vec3> vertices;
+};
+
+CheckedRecords checked_records(const std::string& text, const std::string& name) {
   std::istringstream lines(text);
-  std::string kept;
+  CheckedRecords out;
+  std::string& kept = out.text;
   kept.reserve(text.size());
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
@@ -34,17 +42,19 @@ std::string checked_records(const std::string& text, const std::string& name) {
                      why);
     };
     if (tag == "v") {
-      kept += 'v';
+      kept += "v 0 0 0";
+      Vec3 vertex = Vec3::Zero();
       int count = 0;
       for (std::string token; count < 3 && fields >> token; ++count) {
         double value = 0;
         const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
         if (error != std::errc() || end != token.data() + token.size() || !std::isfinite(value))
           refuse("vertex coordinate " + std::to_string(count + 1) + " is not a finite number");
-        kept.append(" ").append(token);
+        vertex[count] = value;
       }
       if (count < 3)
         refuse("a vertex needs three coordinates");
+      out.vertices.push_back(vertex);
     } else if (tag == "f") {
       kept += 'f';
       for (std::string token; fields >> token;) {
@@ -61,7 +71,7 @@ std::string checked_records(const std::string& text, const std::string& name) {
     }
     kept += '\n';  // one line for each of the file's, so that the library's line numbers hold
   }
-  return kept;
+  return out;
 }
 
 }  // namespace
@@ -70,22 +80,20 @@ namespace {
 
 // The vertices and triangles of the text, faces or none.
 ObjMesh parse_obj(const std::string& text, const std::string& name) {
-  const std::string records = checked_records(text, name);
+  CheckedRecords records = checked_records(text, name);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
   tinyobj::ObjReader reader;
   // No material text: a mesh is geometry only, and no other file is opened behind the scene's back.
-  if (!reader.ParseFromString(records, "", config) || !reader.Valid()) {
+  if (!reader.ParseFromString(records.text, "", config) || !reader.Valid()) {
     std::string why = reader.Error();
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r'))
       why.pop_back();
     throw ObjError("cannot read OBJ file '" + name + "': " + (why.empty() ? "parse error" : why));
   }
   ObjMesh mesh;
-  const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
-  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
-    mesh.vertices.emplace_back(Real(v[i]), Real(v[i + 1]), Real(v[i + 2]));
+  mesh.vertices = std::move(records.vertices);
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& indices = shape.mesh.indices;
     for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {

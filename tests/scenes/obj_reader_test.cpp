@@ -51,6 +51,17 @@ TEST(ObjReader, RecordsTumbleDoesNotUseAreNotParsed) {
   EXPECT_EQ(mesh.triangles[0][2], 2);
 }
 
+// Found by tests/fuzz/fuzz_obj_reader: tinyobjloader reads 0000000e01001 (zero, written with an
+// exponent past the double range) as NaN, where std::from_chars, which checked it, reads 0. The
+// mesh takes the vertices tumble read, not the library's.
+TEST(ObjReader, VerticesAreTheValuesTheCheckRead) {
+  const ObjMesh mesh =
+      read_obj_string("v 0000000e01001 1101 3\nv 1 0 0\nv 0 1 0.1\nf 1 2 3\n", "exponent.obj");
+  ASSERT_EQ(mesh.vertices.size(), 3u);
+  EXPECT_EQ(mesh.vertices[0], Vec3(0, 1101, 3));
+  EXPECT_EQ(mesh.vertices[2], Vec3(0, 1, 0.1));
+}
+
 TEST(ObjReader, RefusesPathsThatAreNotRegularFiles) {
   const std::filesystem::path fifo =
       std::filesystem::temp_directory_path() / ("tumble_obj_fifo_" + std::to_string(::getpid()));

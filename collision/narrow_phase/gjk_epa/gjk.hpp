@@ -19,11 +19,12 @@
 //   * status: separated    -> the cores are apart; distance, witnesses and normal are exact up
 //                             to the tolerances. The distance is negative when the rounded
 //                             parts overlap (e.g. two spheres), and is then the exact depth.
-//                             One exception, found by fuzzing: a set with a sliver of
-//                             near-coincident vertices that touches the other exactly may stop
-//                             short of the touch, at a distance up to 1e-6 of the problem's size
-//                             (the lower bound v.w is then below the rounding of the restart
-//                             test; tests/fuzz/fuzz_gjk_epa.cpp bounds it).
+//                             One exception, found by fuzzing: where a sliver of
+//                             near-coincident vertices (4e-6 m apart on a 1 m set) touches the
+//                             other set exactly, the search may stop short of the touch, at up
+//                             to 1e-5 of the problem's size (2.4e-6 the worst found; the lower
+//                             bound v.w is then near zero and the simplex too thin to progress).
+//                             tests/fuzz/fuzz_gjk_epa.cpp bounds it.
 //             intersecting -> the cores overlap or touch (|v| below the touching tolerance);
 //                             distance = 0, normal = the last search direction (unit) or +z;
 //                             run EPA (collision/narrow_phase/gjk_epa/epa.hpp) on result.simplex
