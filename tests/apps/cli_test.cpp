@@ -416,5 +416,36 @@ TEST(Cli, AKilledRunsTemporaryFileGoesWithTheNextRunIntoItsFolder) {
   EXPECT_EQ(read_file(dir / "trajectory.csv"), before);
 }
 
+// A disk that fills while a run writes: the process's file size limit (RLIMIT_FSIZE, with
+// SIGXFSZ ignored) makes a write fail part way with EFBIG, as a full disk fails it with ENOSPC,
+// without the privileges a small tmpfs needs. The run must say so and fail, keep the files of the
+// run before under their names, and leave no temporary file and no new summary.
+TEST(Cli, AWriteThatFailsPartWayLeavesThePreviousOutputs) {
+  const fs::path dir = scratch_dir("full_disk");
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  const std::string trajectory = read_file(dir / "trajectory.csv");
+  const std::string summary = read_file(dir / "summary.json");
+  ASSERT_LT(trajectory.size(), 8192u);
+  // 16 blocks of 512 bytes: the 2,000-step trajectory (about 300 KB) cannot fit.
+  const std::string command = "trap '' XFSZ; ulimit -f 16; " + std::string(TUMBLE_CLI) + " run " +
+                              kScenes + "free_flight.yaml -q --steps 2000 -o " + dir.string() +
+                              " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  std::array<char, 4096> buffer;
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_NE(WEXITSTATUS(status), 0) << output;
+  EXPECT_NE(output.find("trajectory.csv"), std::string::npos) << output;
+  EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
+  EXPECT_EQ(read_file(dir / "summary.json"), summary);
+  EXPECT_EQ(temporary_files_in(dir), 0);
+}
+
 }  // namespace
 }  // namespace tumble::test
