@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything, builds tumble twice (optimised, and with AddressSanitizer +
-# UndefinedBehaviorSanitizer) and runs the whole test suite under each. `.ci/run` calls this.
+# UndefinedBehaviorSanitizer) and runs the whole test suite under each, then checks the golden
+# state hashes from a clang build (scripts/clang_golden_hashes.sh) and builds the fuzz targets
+# with clang and runs each briefly (scripts/fuzz.sh). `.ci/run` calls this.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -54,3 +56,15 @@ TUMBLE_PROPERTY_SCALE=0.25 \
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/sanitize --output-on-failure -j "$jobs"
 finish_part "sanitizer tests"
+
+# The golden state hashes from clang (the core libraries and that test alone, at -O3; -O2 agrees
+# too, docs/architecture.md, "Determinism").
+bash scripts/clang_golden_hashes.sh O3
+finish_part "clang build and golden hashes"
+
+# Every libFuzzer target of tests/fuzz, briefly, from their seeds (the repository's scenes, meshes
+# and queries, and the corpora of longer runs in tests/fuzz/seeds); a finding fails the run.
+# docs/reliability.md has the longer runs.
+echo "== fuzzing (clang, libFuzzer with address and undefined sanitizers) =="
+bash scripts/fuzz.sh 20
+finish_part "fuzz build and run"
