@@ -73,6 +73,7 @@ seed_dir() {
 run_target() {
   local target=$1
   local corpus="$work/corpus/$target" findings="$work/findings/$target" log="$work/logs/$target.log"
+  rm -rf "$findings"  # this run's findings only
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   local seeds
   seeds=$(seed_dir "$target")

@@ -166,8 +166,11 @@ inline std::optional<Shape> shape(FuzzedDataProvider& in, bool bounded_only = fa
   return std::nullopt;
 }
 
-inline bool finite(const Vec3& v) {
-  return v.allFinite();
+// A broken property: said on stderr, then abort(), which libFuzzer reports as a crash and keeps the
+// input of.
+[[noreturn]] inline void finding(const char* target, const char* what) {
+  std::fprintf(stderr, "%s: %s\n", target, what);
+  std::abort();
 }
 
 }  // namespace tumble::fuzz
