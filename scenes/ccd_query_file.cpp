@@ -1,11 +1,11 @@
 #include "scenes/ccd_query_file.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
 
 #include "scenes/printable_text.hpp"
+#include "scenes/scene_files.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -90,15 +90,11 @@ std::vector<CcdQuery> read_ccd_query_text(std::string_view text, std::string_vie
 }
 
 std::vector<CcdQuery> read_ccd_query_file(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::status(path, ec).type() != std::filesystem::file_type::regular)
-    throw Error(path.string() + ": cannot open (not a regular file)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw Error(path.string() + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return read_ccd_query_text(text.str(), path.string());
+  std::string why;
+  const std::optional<std::string> text = regular_file_text(path, why);
+  if (!text)
+    throw Error(path.string() + ": cannot open (" + why + ")");
+  return read_ccd_query_text(*text, path.string());
 }
 
 }  // namespace tumble

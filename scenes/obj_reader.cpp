@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "scenes/printable_text.hpp"
+#include "scenes/scene_files.hpp"
 
 namespace tumble {
 namespace {
@@ -112,18 +113,11 @@ ObjMesh parse_obj(const std::string& text, const std::string& name) {
   return mesh;
 }
 
-// The whole file, refused at once unless it is a regular file (a FIFO would block the read for
-// ever, and a device such as /dev/zero never ends).
 std::string obj_text(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::status(path, ec).type() != std::filesystem::file_type::regular)
-    throw ObjError("cannot open OBJ file '" + path.string() + "': not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw ObjError("cannot open OBJ file '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string why;
+  if (std::optional<std::string> text = regular_file_text(path, why))
+    return std::move(*text);
+  throw ObjError("cannot open OBJ file '" + path.string() + "': " + why);
 }
 
 }  // namespace

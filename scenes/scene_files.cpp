@@ -1,5 +1,8 @@
 #include "scenes/scene_files.hpp"
 
+#include <cerrno>
+#include <fstream>
+#include <sstream>
 #include <system_error>
 
 namespace tumble {
@@ -36,6 +39,40 @@ std::optional<std::filesystem::path> outside_folder_of(const std::string& source
   if (!relative.empty() && *relative.begin() != ".." && relative.is_relative())
     return std::nullopt;
   return folder;
+}
+
+std::optional<std::string> regular_file_text(const std::filesystem::path& path, std::string& why) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) {
+    why = std::make_error_code(std::errc::no_such_file_or_directory).message();
+    return std::nullopt;
+  }
+  if (ec) {
+    why = ec.message();
+    return std::nullopt;
+  }
+  if (status.type() == std::filesystem::file_type::directory) {
+    why = std::make_error_code(std::errc::is_a_directory).message();
+    return std::nullopt;
+  }
+  if (status.type() != std::filesystem::file_type::regular) {
+    why = "not a regular file";
+    return std::nullopt;
+  }
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    why = errno != 0 ? std::generic_category().message(errno) : "unreadable";
+    return std::nullopt;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    why = "read error";
+    return std::nullopt;
+  }
+  return std::move(text).str();
 }
 
 }  // namespace tumble

@@ -17,4 +17,10 @@ std::filesystem::path file_beside(const std::string& source, const std::string& 
 std::optional<std::filesystem::path> outside_folder_of(const std::string& source,
                                                        const std::filesystem::path& file);
 
+// The whole of `path` when it is a regular file that can be read; otherwise nothing, and `why`
+// says what is wrong ("No such file or directory", "Is a directory", "not a regular file", ...).
+// Only regular files are read: a FIFO would block the read for ever and a device such as
+// /dev/zero never ends. Every file a scene, query or mesh names is read through here.
+std::optional<std::string> regular_file_text(const std::filesystem::path& path, std::string& why);
+
 }  // namespace tumble

@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "engine/number_text.hpp"
+#include "scenes/scene_files.hpp"
 
 namespace tumble::scene_yaml {
 
@@ -353,36 +354,10 @@ const Node& Loader::parse(std::string_view text, DocumentBuilder& doc,
 }
 
 std::string read_file(const std::filesystem::path& path, const std::string& source) {
-  const auto cannot_open = [&](const std::string& why) {
-    return SceneError(source, 0, 0, "", "cannot open scene file (" + why + ")");
-  };
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec) {
-    throw cannot_open(ec.message());
-  }
-  if (status.type() == std::filesystem::file_type::not_found) {
-    throw cannot_open(std::make_error_code(std::errc::no_such_file_or_directory).message());
-  }
-  if (status.type() == std::filesystem::file_type::directory) {
-    throw cannot_open(std::make_error_code(std::errc::is_a_directory).message());
-  }
-  // A FIFO would block the read for ever and a device such as /dev/zero never ends: only
-  // regular files are scenes.
-  if (status.type() != std::filesystem::file_type::regular) {
-    throw cannot_open("not a regular file");
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw cannot_open(errno != 0 ? std::generic_category().message(errno) : "unreadable");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw cannot_open("read error");
-  }
-  return text.str();
+  std::string why;
+  if (std::optional<std::string> text = regular_file_text(path, why))
+    return std::move(*text);
+  throw SceneError(source, 0, 0, "", "cannot open scene file (" + why + ")");
 }
 
 }  // namespace tumble::scene_yaml
