@@ -162,9 +162,22 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   m.inv_inertia_a = packed_symmetric(ia);
   m.inv_inertia_b = packed_symmetric(ib);
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
+  // The points in the order of their feature keys, not the narrow phase's: the rows of a face
+  // contact are solved one by one where the block would pull (docs/architecture.md), and their
+  // order then shares out the impulse. A manifold found along another path (GJK from last step's
+  // axis or from scratch) lists the same points in another order, and must give the same step.
+  std::array<int, kMaxManifoldPoints> order{};
+  for (int k = 0; k < m.count; ++k) {
+    int j = k;
+    const std::uint32_t key = pc.manifold.points[std::size_t(k)].feature.key();
+    for (; j > 0 && pc.manifold.points[std::size_t(order[std::size_t(j - 1)])].feature.key() > key;
+         --j)
+      order[std::size_t(j)] = order[std::size_t(j - 1)];
+    order[std::size_t(j)] = k;
+  }
   std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
   for (int k = 0; k < m.count; ++k) {
-    const ContactPoint& cp = pc.manifold.points[std::size_t(k)];
+    const ContactPoint& cp = pc.manifold.points[std::size_t(order[std::size_t(k)])];
     PointRecord& p = m.points[std::size_t(k)];
     // Worked in locals and stored once: read back from the record, the lever arms' stores
     // stalled the loads that followed them (a load spanning two stores is not forwarded).

@@ -13,6 +13,8 @@
 // Reference: Hairer, Lubich, Wanner, "Geometric Numerical Integration", IV.2 and VII.5.
 #pragma once
 
+#include <cstdint>
+
 #include "dynamics/rigid_body.hpp"
 
 namespace tumble {
@@ -31,5 +33,29 @@ void integrate_velocity(BodyState& state, const BodyMass& mass, const Vec3& grav
 // Advances the pose with the solved velocities and rotates the world angular velocity with
 // the body.
 void integrate_position(BodyState& state, const GyroscopicCarry& carry, Real h);
+
+// What velocity integration reads and writes, indexed by body.
+struct VelocityIntegration {
+  BodyState* states = nullptr;
+  const BodyMass* masses = nullptr;
+  GyroscopicCarry* carries = nullptr;
+  Vec3 gravity = Vec3::Zero();
+  // Bodies with loads: loaded[i] != 0 adds forces[i] / mass to gravity. Null for none.
+  const std::uint8_t* loaded = nullptr;
+  const Vec3* forces = nullptr;
+  Real h = 0;
+};
+
+struct PositionIntegration {
+  BodyState* states = nullptr;
+  const GyroscopicCarry* carries = nullptr;
+  Real h = 0;
+};
+
+// The same two updates for many bodies: bodies body[0..count), each listed once, in bundles as wide
+// as the CPU's vector registers. A body gets the same bits as from the one-body functions above,
+// whatever bodies share its bundle (dynamics/integrator_lanes.inc).
+void integrate_velocities(const VelocityIntegration& in, const std::int32_t* body, int count);
+void integrate_positions(const PositionIntegration& in, const std::int32_t* body, int count);
 
 }  // namespace tumble

@@ -11,7 +11,6 @@ BodyMass BodyMass::make(Real mass, const Mat3& inertia, bool is_static) {
   m.inverse_inertia = inertia.inverse();
   const Real trace = inertia.trace() / 3;
   m.is_isotropic = inertia == Mat3::Identity() * trace;
-  m.is_diagonal = inertia == Mat3(inertia.diagonal().asDiagonal());
   return m;
 }
 

@@ -13,9 +13,6 @@ struct BodyMass {
   Mat3 inertia = Mat3::Zero();          // kg m^2, body frame, about the centre of mass
   Mat3 inverse_inertia = Mat3::Zero();  // body frame
   bool is_isotropic = true;             // inertia is a multiple of identity: no gyroscopic torque
-  // The body frame is the principal frame (boxes, cylinders, capsules, most scenes' inertias):
-  // the gyroscopic solve works on the three principal moments (dynamics/integrator.cpp).
-  bool is_diagonal = true;
 
   static BodyMass make(Real mass, const Mat3& inertia, bool is_static);
 };

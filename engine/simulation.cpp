@@ -580,36 +580,51 @@ void Simulation::sweep_fast_bodies() {
 
 void Simulation::integrate_velocities(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_velocities);
-  const Vec3 g = scene_->world.gravity;
-  for_each_awake_body(group, [&](std::size_t i) {
-    if (loaded_[i] == 0) {
-      integrate_velocity(state_.bodies[i], masses_[i], g, h, carries_[i]);
-      return;
-    }
-    // A body with loads: the force joins gravity; the torque turns it after the gyroscopic
-    // update, through the world inverse inertia at the substep's orientation.
-    BodyState& b = state_.bodies[i];
-    const BodyMass& m = masses_[i];
-    integrate_velocity(b, m, g + force_[i] * m.inverse_mass, h, carries_[i]);
-    if (torque_[i].squaredNorm() > 0) {
+  VelocityIntegration in;
+  in.states = state_.bodies.data();
+  in.masses = masses_.data();
+  in.carries = carries_.data();
+  in.gravity = scene_->world.gravity;
+  in.loaded = loaded_.data();
+  in.forces = force_.data();
+  in.h = h;
+  for_each_awake_chunk(group, [&](const std::int32_t* bodies, int count) {
+    tumble::integrate_velocities(in, bodies, count);
+    // A body with a torque turns after the gyroscopic update, through the world inverse inertia
+    // at the substep's orientation.
+    for (int k = 0; k < count; ++k) {
+      const std::size_t i = std::size_t(bodies[k]);
+      if (loaded_[i] == 0 || !(torque_[i].squaredNorm() > 0))
+        continue;
+      BodyState& b = state_.bodies[i];
       const Mat3 r = b.orientation.toRotationMatrix();
-      b.angular_velocity += r * (m.inverse_inertia * (r.transpose() * torque_[i])) * h;
+      b.angular_velocity += r * (masses_[i].inverse_inertia * (r.transpose() * torque_[i])) * h;
     }
   });
 }
 
-// Calls update(i) for every awake body i of substep group `group`, in chunks on the runner's
-// threads (each call touches body i alone).
+// Calls update(bodies, count) with the awake bodies of substep group `group`, a chunk of the
+// group's list at a time, on the runner's threads (each call touches its bodies alone).
 template <class Update>
-void Simulation::for_each_awake_body(int group, const Update& update) {
+void Simulation::for_each_awake_chunk(int group, const Update& update) {
   const std::int32_t first = group_body_start_[std::size_t(group)];
   runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
+                        // A run on one thread gets the whole range at once.
+                        std::int32_t awake[kBodiesPerChunk];
+                        int count = 0;
                         for (std::int32_t k = first + begin; k < first + end; ++k) {
-                          const std::size_t i = std::size_t(group_bodies_[std::size_t(k)]);
-                          if (state_.asleep[i] == 0)
-                            update(i);
+                          const std::int32_t i = group_bodies_[std::size_t(k)];
+                          if (state_.asleep[std::size_t(i)] != 0)
+                            continue;
+                          awake[count++] = i;
+                          if (count == kBodiesPerChunk) {
+                            update(static_cast<const std::int32_t*>(awake), count);
+                            count = 0;
+                          }
                         }
+                        if (count > 0)
+                          update(static_cast<const std::int32_t*>(awake), count);
                       });
 }
 
@@ -1228,8 +1243,13 @@ void Simulation::finish_contacts() {
 
 void Simulation::integrate_positions(int group, Real h) {
   StageTimer timer(current_, Stage::integrate_positions);
-  for_each_awake_body(group,
-                      [&](std::size_t i) { integrate_position(state_.bodies[i], carries_[i], h); });
+  PositionIntegration in;
+  in.states = state_.bodies.data();
+  in.carries = carries_.data();
+  in.h = h;
+  for_each_awake_chunk(group, [&](const std::int32_t* bodies, int count) {
+    tumble::integrate_positions(in, bodies, count);
+  });
 }
 
 WorldMemory Simulation::memory() const {

@@ -159,7 +159,7 @@ class Simulation {
   void start_kinematic_motion(Real dt);
   void move_kinematic_bodies(Real fraction, Real dt);
   template <class Update>
-  void for_each_awake_body(int group, const Update& update);
+  void for_each_awake_chunk(int group, const Update& update);
 
   std::shared_ptr<const Model> model_;
   const Scene* scene_ = nullptr;  // model_'s scene

@@ -284,9 +284,16 @@ void World::refresh_reports() const {
       ContactPointReport& p = r.points[std::size_t(k)];
       p.position = pc.manifold.points[std::size_t(k)].position;
       p.depth = pc.manifold.points[std::size_t(k)].depth;
-      if (kept != nullptr && k < kept->count) {
-        p.normal_impulse = kept->points[std::size_t(k)].normal_impulse * scale;
-        p.friction_impulse = kept->points[std::size_t(k)].friction_impulse * scale;
+      if (kept == nullptr)
+        continue;
+      // The solver keeps a manifold's points in its own order (by feature key); find this one's.
+      const std::uint32_t key = pc.manifold.points[std::size_t(k)].feature.key();
+      for (int j = 0; j < kept->count; ++j) {
+        if (kept->points[std::size_t(j)].feature != key)
+          continue;
+        p.normal_impulse = kept->points[std::size_t(j)].normal_impulse * scale;
+        p.friction_impulse = kept->points[std::size_t(j)].friction_impulse * scale;
+        break;
       }
     }
     reports_.push_back(r);
