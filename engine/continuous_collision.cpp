@@ -89,6 +89,35 @@ ContinuousCollision::ContinuousCollision(const Scene& scene) {
   }
 }
 
+// Whether any body may need a sweep this step, from a bound on its travel that costs a quaternion
+// product where the exact travel (run) costs a rotation vector and a screw motion per body: most
+// steps of most scenes sweep nothing, and then the exact motions are not needed. The bound: the
+// shortest turn between the poses has angle 2 asin(|v|) <= pi |v| (v the vector part of the
+// relative quaternion), and the turn the step takes is the one nearest the angular velocity's
+// guide g, so its length is at most |g| + |shortest - g| <= 2 |g| + pi |v|; the part about a
+// body's own axis is not more than the whole. Half the threshold leaves room for rounding.
+bool ContinuousCollision::may_sweep(const Scene& scene, const std::vector<Transform>& start,
+                                    const std::vector<BodyState>& bodies) const {
+  const CcdMode mode = scene.world.ccd;
+  const Real dt = scene.world.dt;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const BodyDesc& d = scene.bodies[i];
+    if (d.is_static || d.kinematic)
+      continue;
+    if (mode == CcdMode::on || d.fast)
+      return true;
+    const BodyState& b = bodies[i];
+    const Real relative_turn = (b.orientation * start[i].rotation.conjugate()).vec().norm();
+    const Real turn_bound =
+        2 * b.angular_velocity.norm() * dt + Real(M_PI) * std::min<Real>(relative_turn, 1);
+    const Real travel_bound =
+        (b.position - start[i].translation).norm() + turn_bound * turning_radius_[i];
+    if (!(travel_bound <= Real(0.5) * kAutoSweepFraction * thickness_[i]))
+      return true;
+  }
+  return false;
+}
+
 ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
                                                    const std::vector<Transform>& start,
                                                    const BroadPhase& broad_phase,
@@ -102,6 +131,17 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   swept_list_.clear();
   moved_on_list_.clear();
+  if (mode == CcdMode::off || !may_sweep(scene, start, bodies)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      swept_[i] = 0;
+      earliest_[i] = 1;
+      hit_partner_[i] = -1;
+      plan_from_[i] = 0;
+      moving_on_[i] = 0;
+      moved_on_[i] = 0;
+    }
+    return counts;
+  }
   // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
   // phase covers its start pose, so that box grown by this covers its whole motion.
   Real unswept_travel = 0;

@@ -110,6 +110,8 @@ class ContinuousCollision {
     std::int8_t queries = 0;
     bool hit = false;
   };
+  bool may_sweep(const Scene& scene, const std::vector<Transform>& start,
+                 const std::vector<BodyState>& bodies) const;
   void add_pair(std::int32_t ia, std::int32_t ib, ContinuousCollisionCounts& counts);
   void test_pair(const Scene& scene, PairTest& test) const;
   // `closing_is_an_impact`: a pair that starts in touch and closes is hit at once (in the
