@@ -1,10 +1,12 @@
 // The `tumble` command line: one verb per job (the way MuJoCo's small sample programs each do
-// one thing). Exit codes: 0 success, 1 a user error with a message, 2 an internal error.
+// one thing). Exit codes: 0 success, 1 a user error with a message, 2 an internal error, 3 a
+// non-finite state (run), 4 out of memory.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <exception>
 #include <iostream>
 #include <map>
+#include <new>
 
 #include "apps/bench_batch_command.hpp"
 #include "apps/bench_command.hpp"
@@ -57,31 +59,31 @@ int main(int argc, char** argv) {
   run_cmd->add_option("scene", run.scene, "Scene file (YAML)")->required();
   run_cmd
       ->add_option("--threads", run.threads,
-                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "Threads per step, 1 to 1024 (default: the scene's world.threads; results do "
                    "not change)")
       ->check(CLI::Range(1, 1024));
   run_cmd->add_option("-o,--output", run.output_dir,
                       "Output directory (default out/<scene name>); gets trajectory.csv and "
                       "summary.json");
   auto* steps_opt =
-      run_cmd->add_option("--steps", run.steps, "Number of steps (overrides the scene)")
+      run_cmd->add_option("--steps", run.steps, "Number of steps (default: the scene's)")
           ->check(CLI::Range(std::int64_t{1}, std::int64_t{1000000000}));
   auto* duration_opt =
-      run_cmd->add_option("--duration", run.duration, "Simulated time in s (overrides the scene)")
+      run_cmd->add_option("--duration", run.duration, "Simulated time in s (default: the scene's)")
           ->check(kFinitePositive);
   steps_opt->excludes(duration_opt);
   // The range is the scene's (1e-9 to 1 s), checked with the scene (check_scene).
-  run_cmd->add_option("--dt", run.dt, "Time step in s (overrides the scene)")
+  run_cmd->add_option("--dt", run.dt, "Time step in s (default: the scene's)")
       ->check(kFinitePositive);
   run_cmd
       ->add_option("--record-every", run.record_every,
-                   "Write every k-th step to the trajectory (the first and last always)")
+                   "Write every k-th step to the trajectory, the first and last always (default 1)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1000000000}));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing on success");
   run_cmd
       ->add_option("--format", run.format,
                    "Trajectory file: csv (trajectory.csv), npy (trajectory.npy: float64 "
-                   "[records, bodies, 13]) or both")
+                   "[records, bodies, 13]) or both (default csv)")
       ->check(CLI::IsMember({"csv", "npy", "both"}));
   run_cmd->add_flag("--static-bodies", run.static_bodies,
                     "Also write static bodies in the trajectory (left out: they never move)");
@@ -111,21 +113,24 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("scene", compare.scene, "Scene file (YAML)")->required();
   compare_cmd
       ->add_option("--threads", compare.threads,
-                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "Threads per step, 1 to 1024 (default: the scene's world.threads; results do "
                    "not change)")
       ->check(CLI::Range(1, 1024));
   compare_cmd->add_option("-o,--output", compare.output_dir,
                           "Output directory (default out/<scene name>-compare)");
   compare_cmd
       ->add_option("--mode", compare.mode,
-                   "paths (per-body errors), statistics (chaotic scenes) or auto")
+                   "paths (per-body errors), statistics (chaotic scenes) or auto (default auto: "
+                   "statistics for chaotic scenes, paths otherwise)")
       ->transform(CLI::CheckedTransformer(
-          std::map<std::string, tumble::app::CompareMode>{
-              {"auto", tumble::app::CompareMode::automatic},
-              {"paths", tumble::app::CompareMode::paths},
-              {"statistics", tumble::app::CompareMode::statistics}},
-          CLI::ignore_case));
-  compare_cmd->add_option("--steps", compare.steps, "Number of steps (overrides the scene)")
+                      std::map<std::string, tumble::app::CompareMode>{
+                          {"auto", tumble::app::CompareMode::automatic},
+                          {"paths", tumble::app::CompareMode::paths},
+                          {"statistics", tumble::app::CompareMode::statistics}},
+                      CLI::ignore_case)
+                      .description("{auto,paths,statistics}"))
+      ->type_name("TEXT");
+  compare_cmd->add_option("--steps", compare.steps, "Number of steps (default: the scene's)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
   compare_cmd->add_flag("-q,--quiet", compare.quiet, "Print only the JSON summary");
   compare_cmd
@@ -157,9 +162,10 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("scenes", bench.scenes, "Scene files (default: scenes/bench/*.yaml)");
   bench_cmd->add_option("-o,--output", bench.output_dir,
                         "Directory for the CSV files (default out/bench)");
-  bench_cmd->add_option("--repetitions", bench.repetitions, "Runs of each engine per scene")
+  bench_cmd
+      ->add_option("--repetitions", bench.repetitions, "Runs of each engine per scene (default 3)")
       ->check(CLI::Range(1, 1000));
-  bench_cmd->add_option("--steps", bench.steps, "Steps per run (overrides the scene)")
+  bench_cmd->add_option("--steps", bench.steps, "Steps per run (default: the scene's)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
   bench_cmd
       ->add_option("--threads", bench.threads,
@@ -185,7 +191,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024));
   bench_batch_cmd->add_option("--steps", bench_batch.steps, "Batch steps per run (default 60)")
       ->check(CLI::Range(1, 1000000));
-  bench_batch_cmd->add_option("--repetitions", bench_batch.repetitions, "Runs per engine")
+  bench_batch_cmd
+      ->add_option("--repetitions", bench_batch.repetitions, "Runs per engine (default 3)")
       ->check(CLI::Range(1, 1000));
   bench_batch_cmd
       ->add_option("--peers", bench_batch.peers,
@@ -196,7 +203,8 @@ int main(int argc, char** argv) {
       ->add_option("--peer-max-worlds", bench_batch.peer_max_worlds,
                    "Largest world count the peers run (default 1024)")
       ->check(CLI::Range(1, 1000000));
-  bench_batch_cmd->add_option("-o,--output", bench_batch.output, "CSV file to write");
+  bench_batch_cmd->add_option("-o,--output", bench_batch.output,
+                              "CSV file to write (default: none, the table is printed)");
   tumble::app::Sim2RealOptions sim2real;
   CLI::App* sim2real_cmd =
       app.add_subcommand("sim2real",
@@ -212,7 +220,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024));
   sim2real_cmd->add_option("--seed", sim2real.seed, "The batches' seed (default 0)");
   sim2real_cmd->add_option("-o,--output", sim2real.output,
-                           "Directory for sim2real.csv, sim2real.md and sim2real.png");
+                           "Directory for sim2real.csv, sim2real.md and sim2real.png (default: "
+                           "none, the table is printed)");
   tumble::app::SweepOptions sweep;
   CLI::App* sweep_cmd = app.add_subcommand(
       "sweep",
@@ -230,14 +239,14 @@ int main(int argc, char** argv) {
   render_cmd->add_option("scene", render.scene, "Scene file (YAML)")->required();
   render_cmd
       ->add_option("--threads", render.threads,
-                   "Threads per step, 1 to 1024 (overrides the scene's world.threads; results do "
+                   "Threads per step, 1 to 1024 (default: the scene's world.threads; results do "
                    "not change)")
       ->check(CLI::Range(1, 1024));
   render_cmd->add_option("-o,--output", render.output,
                          "Video file, H.264 MP4 (default out/<scene>/<scene>.mp4 unless "
                          "--frames is given)");
   render_cmd->add_option("--frames", render.frames_dir,
-                         "Also write every frame as DIR/frame_NNNNNN.png");
+                         "Also write every frame as DIR/frame_NNNNNN.png (default: no frames)");
   // At least one frame a second: a video's frame rate below that is not one ffmpeg writes.
   render_cmd
       ->add_option("--fps", render.fps,
@@ -246,16 +255,19 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 1000.0));
   render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT (default 1280x720)");
   render_cmd
-      ->add_option("--overlay", render.overlays,
-                   "Debug overlays, comma-separated: aabb, pairs, contacts, stage, rest")
+      ->add_option(
+          "--overlay", render.overlays,
+          "Debug overlays, comma-separated: aabb, pairs, contacts, stage, rest (default: none)")
       ->delimiter(',');
-  render_cmd->add_option("--duration", render.duration, "Simulated time in s (overrides the scene)")
+  render_cmd
+      ->add_option("--duration", render.duration, "Simulated time in s (default: the scene's)")
       ->check(kFinitePositive);
   render_cmd
       ->add_option("--supersample", render.supersample,
-                   "Anti-aliasing: render at N times the size and filter down (1..4)")
+                   "Anti-aliasing: render at N times the size and filter down, 1 to 4 (default 2)")
       ->check(CLI::Range(1, 4));
-  render_cmd->add_flag("!--no-shadows", render.shadows, "Do not draw shadows on the floor");
+  render_cmd->add_flag_callback(
+      "--no-shadows", [&render] { render.shadows = false; }, "Do not draw shadows on the floor");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar, no summary");
   // tumble query FILE.yaml: shape-pair queries, one JSON line each (apps/query_command.hpp).
   std::filesystem::path query_file;
@@ -321,6 +333,10 @@ int main(int argc, char** argv) {
     // File-system and output errors name the path in their message.
     std::cerr << "tumble: " << e.what() << "\n";
     return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "tumble: out of memory (the scene, its meshes or its contacts need more than "
+                 "this machine can give)\n";
+    return 4;
   } catch (const std::exception& e) {
     std::cerr << "tumble: internal error: " << e.what() << "\n";
     return 2;

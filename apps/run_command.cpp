@@ -18,6 +18,7 @@
 #include "apps/npy_trajectory_writer.hpp"
 #include "apps/run_summary.hpp"
 #include "apps/trajectory_writer.hpp"
+#include "engine/scene_limits.hpp"
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 
@@ -85,6 +86,27 @@ int run_command(const RunOptions& options) {
     steps = *scene->world.steps;
   } else {
     steps = steps_for(scene->world.duration, scene->world.dt);
+  }
+
+  // The trajectory's size is known before the run: one past the limit is refused here, rather
+  // than found when the disk is full.
+  {
+    using scene_limits::kMaxTrajectoryRows;
+    const std::int64_t every = options.record_every;
+    const std::int64_t records = 1 + steps / every + (steps % every != 0 ? 1 : 0);
+    const auto bodies = static_cast<std::int64_t>(
+        std::max<std::size_t>(1, trajectory_bodies(*scene, options.static_bodies).size()));
+    if (records > kMaxTrajectoryRows / bodies) {
+      const std::int64_t records_allowed = kMaxTrajectoryRows / bodies - 2;
+      const std::int64_t suggestion =
+          records_allowed > 0 ? (steps + records_allowed - 1) / records_allowed : steps;
+      std::cerr << "tumble run: " << options.scene.string() << ": the trajectory would have "
+                << records << " records of " << bodies
+                << " bodies, more rows than the limit of 100,000,000 (about 30 GB of CSV); "
+                   "write fewer records with --record-every "
+                << std::max<std::int64_t>(suggestion, every + 1) << " or more\n";
+      return 1;
+    }
   }
 
   std::filesystem::path dir = options.output_dir;

@@ -35,6 +35,18 @@ inline constexpr Real kDefaultDensity = 1000;  // kg/m^3, water
 inline constexpr std::int64_t kMaxSteps = 1000000000;
 inline constexpr std::size_t kMaxBodies = 1000000;
 inline constexpr std::size_t kMaxNameLength = 256;
+// Sizes that cost memory, refused before anything that large is allocated.
+inline constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(1) << 30;  // a file a scene reads
+inline constexpr std::size_t kMaxTriangles = 10000000;     // per mesh (about 1.5 GB in tumble)
+inline constexpr std::size_t kMaxMeshVertices = 10000000;  // per mesh
+inline constexpr std::size_t kMaxHullPoints = 1000000;     // the points a hull is built from
+// Rows of a trajectory (records times bodies listed): about 30 GB of CSV.
+inline constexpr std::int64_t kMaxTrajectoryRows = 100000000;
+// Candidate pairs in one step: the larger of a fixed floor and a number per body. A resting pile
+// has about 10 per body; this many means bodies overlap en masse, and the narrow phase would
+// exhaust the memory before it finished.
+inline constexpr std::int64_t kMinCandidatePairLimit = 1000000;
+inline constexpr std::int64_t kMaxCandidatePairsPerBody = 64;
 
 inline constexpr Real kInf = std::numeric_limits<Real>::infinity();
 

@@ -18,6 +18,7 @@
 #include "collision/shapes/sdf_shape.hpp"
 #include "engine/broad_phase_choice.hpp"
 #include "engine/number_text.hpp"
+#include "engine/scene_limits.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -662,6 +663,24 @@ void Simulation::find_candidate_pairs() {
   StageTimer timer(current_, Stage::broad_phase);
   broad_phase_->find_pairs(candidate_pairs_);
   current_.candidate_pairs += static_cast<std::int64_t>(candidate_pairs_.size());
+  // Thousands of bodies in one place pair each with each; the narrow phase would then exhaust the
+  // memory. Stop with the reason instead.
+  const auto bodies = static_cast<std::int64_t>(state_.bodies.size());
+  const std::int64_t limit = std::max(scene_limits::kMinCandidatePairLimit,
+                                      scene_limits::kMaxCandidatePairsPerBody * bodies);
+  const auto pairs = static_cast<std::int64_t>(candidate_pairs_.size());
+  if (pairs > limit) {
+    std::string message = "step ";
+    message += std::to_string(state_.step);
+    message += ": the broad phase found ";
+    message += std::to_string(pairs);
+    message += " candidate pairs among ";
+    message += std::to_string(bodies);
+    message += " bodies, more than the limit of ";
+    message += std::to_string(limit);
+    message += " (64 per body, at least 1,000,000): bodies overlap en masse; spread them out";
+    throw StepLimitError(message);
+  }
 }
 
 // Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "engine/scene_limits.hpp"
 #include "scenes/printable_text.hpp"
 #include "scenes/scene_files.hpp"
 
@@ -34,6 +35,7 @@ CheckedRecords checked_records(const std::string& text, const std::string& name)
   std::string& kept = out.text;
   kept.reserve(text.size());
   std::string line;
+  std::size_t triangles = 0;
   for (int number = 1; std::getline(lines, line); ++number) {
     std::istringstream fields(line);
     std::string tag;
@@ -55,10 +57,13 @@ CheckedRecords checked_records(const std::string& text, const std::string& name)
       }
       if (count < 3)
         refuse("a vertex needs three coordinates");
+      if (out.vertices.size() >= scene_limits::kMaxMeshVertices)
+        refuse("more than 10,000,000 vertices, the limit for a mesh");
       out.vertices.push_back(vertex);
     } else if (tag == "f") {
       kept += 'f';
-      for (std::string token; fields >> token;) {
+      std::size_t corners = 0;
+      for (std::string token; fields >> token; ++corners) {
         const std::string first = token.substr(0, token.find('/'));
         long long index = 0;
         const auto [end, error] = std::from_chars(first.data(), first.data() + first.size(), index);
@@ -69,6 +74,10 @@ CheckedRecords checked_records(const std::string& text, const std::string& name)
                  "negative to count back)");
         kept.append(" ").append(first);
       }
+      // A face of n corners is n - 2 triangles.
+      triangles += corners > 2 ? corners - 2 : 0;
+      if (triangles > scene_limits::kMaxTriangles)
+        refuse("more than 10,000,000 triangles, the limit for a mesh");
     }
     kept += '\n';  // one line for each of the file's, so that the library's line numbers hold
   }

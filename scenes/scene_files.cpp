@@ -3,7 +3,10 @@
 #include <cerrno>
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <system_error>
+
+#include "engine/scene_limits.hpp"
 
 namespace tumble {
 namespace {
@@ -41,25 +44,38 @@ std::optional<std::filesystem::path> outside_folder_of(const std::string& source
   return folder;
 }
 
-std::optional<std::string> regular_file_text(const std::filesystem::path& path, std::string& why) {
+bool is_regular_file_within_limits(const std::filesystem::path& path, std::string& why) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (status.type() == std::filesystem::file_type::not_found) {
     why = std::make_error_code(std::errc::no_such_file_or_directory).message();
-    return std::nullopt;
+    return false;
   }
   if (ec) {
     why = ec.message();
-    return std::nullopt;
+    return false;
   }
   if (status.type() == std::filesystem::file_type::directory) {
     why = std::make_error_code(std::errc::is_a_directory).message();
-    return std::nullopt;
+    return false;
   }
   if (status.type() != std::filesystem::file_type::regular) {
     why = "not a regular file";
-    return std::nullopt;
+    return false;
   }
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > scene_limits::kMaxFileBytes) {
+    why = "larger than the limit of 1 GiB for a file tumble reads (";
+    why += std::to_string(bytes);
+    why += " bytes)";
+    return false;
+  }
+  return true;
+}
+
+std::optional<std::string> regular_file_text(const std::filesystem::path& path, std::string& why) {
+  if (!is_regular_file_within_limits(path, why))
+    return std::nullopt;
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {

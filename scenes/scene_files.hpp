@@ -17,10 +17,15 @@ std::filesystem::path file_beside(const std::string& source, const std::string& 
 std::optional<std::filesystem::path> outside_folder_of(const std::string& source,
                                                        const std::filesystem::path& file);
 
+// Whether `path` is a regular file of at most scene_limits::kMaxFileBytes; otherwise `why` says
+// what it is (as below). For files another library opens itself (OpenVDB's).
+bool is_regular_file_within_limits(const std::filesystem::path& path, std::string& why);
+
 // The whole of `path` when it is a regular file that can be read; otherwise nothing, and `why`
 // says what is wrong ("No such file or directory", "Is a directory", "not a regular file", ...).
 // Only regular files are read: a FIFO would block the read for ever and a device such as
-// /dev/zero never ends. Every file a scene, query or mesh names is read through here.
+// /dev/zero never ends. A file larger than scene_limits::kMaxFileBytes (1 GiB) is refused before
+// it is read. Every file a scene, query or mesh names is read through here.
 std::optional<std::string> regular_file_text(const std::filesystem::path& path, std::string& why);
 
 }  // namespace tumble

@@ -147,6 +147,9 @@ Shape Loader::load_hull(const Fields& f, const std::string& path, Vec3* centre_o
     if (!n.is_sequence()) {
       fail(where.mark(), field, "expected a list of points [x, y, z], got " + describe(n));
     }
+    if (n.size() > kMaxHullPoints)
+      fail(where.mark(), field,
+           "a hull is built from at most 1,000,000 points, got " + std::to_string(n.size()));
     for (std::size_t i = 0; i < n.size(); ++i) {
       const Node& item = *n.items[i];
       const Entry point{index(field, i), mark_or(item, where.mark()), item};
@@ -161,6 +164,10 @@ Shape Loader::load_hull(const Fields& f, const std::string& path, Vec3* centre_o
     } catch (const ObjError& error) {
       fail(where.mark(), field, error.what());
     }
+    if (points.size() > kMaxHullPoints)
+      fail(where.mark(), field,
+           "a hull is built from at most 1,000,000 points, the file has " +
+               std::to_string(points.size()));
   }
   try {
     auto hull = std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
@@ -225,6 +232,13 @@ Shape Loader::load_mesh(const Fields& f, const std::string& path) const {
       fail(triangles->mark(), tpath,
            "expected a list of at least 1 triangle [i, j, k], got " + describe(triangles->value));
     }
+    if (vertices->value.size() > kMaxMeshVertices)
+      fail(vertices->mark(), vpath,
+           "a mesh has at most 10,000,000 vertices, got " + std::to_string(vertices->value.size()));
+    if (triangles->value.size() > kMaxTriangles)
+      fail(triangles->mark(), tpath,
+           "a mesh has at most 10,000,000 triangles, got " +
+               std::to_string(triangles->value.size()));
     for (std::size_t i = 0; i < vertices->value.items.size(); ++i) {
       const Node& item = *vertices->value.items[i];
       const Entry entry{"", mark_or(item, vertices->mark()), item};

@@ -33,4 +33,11 @@ struct NonFiniteStateError : Error {
   using Error::Error;
 };
 
+// A step stopped at one of the documented limits that guard the memory (docs/reliability.md,
+// "Limits"): more candidate pairs than the world allows, which means bodies overlap en masse.
+// what() names the step, the count and the limit; the world is not usable afterwards.
+struct StepLimitError : Error {
+  using Error::Error;
+};
+
 }  // namespace tumble

@@ -79,6 +79,39 @@ TEST(Cli, HelpForEveryVerb) {
   EXPECT_NE(run_cli("run --help").output.find("--dt"), std::string::npos);
 }
 
+// Every option that takes a value and is not required states its default in --help, and no
+// option shows an internal encoding (an enum's numbers, a negated flag's {false}).
+TEST(Cli, HelpShowsEveryDefaultAndNoEncoding) {
+  for (const std::string verb : {"run", "validate", "ccd", "compare", "report", "bench",
+                                 "bench-batch", "sim2real", "sweep", "render", "query"}) {
+    const Result r = run_cli(verb + " --help");
+    ASSERT_EQ(r.exit_code, 0) << verb;
+    const std::size_t options = r.output.find("Options:");
+    ASSERT_NE(options, std::string::npos) << r.output;
+    // An option's block: its line (two spaces, then '-') and the indented lines that follow.
+    std::vector<std::string> blocks;
+    std::istringstream lines(r.output.substr(options));
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("  -", 0) == 0)
+        blocks.push_back(line);
+      else if (!blocks.empty() && line.rfind("      ", 0) == 0)
+        blocks.back() += " " + line;
+    }
+    for (const std::string& block : blocks) {
+      EXPECT_EQ(block.find("->"), std::string::npos) << verb << ": " << block;
+      EXPECT_EQ(block.find("{false}"), std::string::npos) << verb << ": " << block;
+      const std::string head = block.substr(0, block.find("  ", 2));
+      const bool takes_value =
+          head.find(" TEXT") != std::string::npos || head.find(" INT") != std::string::npos ||
+          head.find(" UINT") != std::string::npos || head.find(" FLOAT") != std::string::npos;
+      if (!takes_value || block.find("REQUIRED") != std::string::npos ||
+          block.find("--help") != std::string::npos)
+        continue;
+      EXPECT_NE(block.find("default"), std::string::npos) << verb << ": " << block;
+    }
+  }
+}
+
 TEST(Cli, RunWritesTrajectoryAndSummary) {
   const fs::path dir = scratch_dir("run");
   const Result r =
@@ -114,6 +147,16 @@ TEST(Cli, RunWritesTrajectoryAndSummary) {
   EXPECT_EQ(std::strtod(values[2].c_str(), nullptr), b.position.x());
   EXPECT_EQ(std::strtod(values[4].c_str(), nullptr), b.position.z());
   EXPECT_EQ(std::strtod(values[11].c_str(), nullptr), b.velocity.z());
+  // The discrete parabola the scene's comment states, over its substeps.
+  const Real n = 30, dt = scene->world.dt, substeps = scene->world.substeps;
+  const BodyDesc& ball = scene->bodies[0];
+  const Vec3 expected = ball.position + n * dt * ball.velocity +
+                        dt * dt * scene->world.gravity * n * (n + 1 / substeps) / 2;
+  EXPECT_LT((b.position - expected).norm(), 1e-12) << b.position.transpose();
+  EXPECT_GT((b.position - (ball.position + n * dt * ball.velocity +
+                           dt * dt * scene->world.gravity * n * (n + 1) / 2))
+                .norm(),
+            1e-6);  // the formula without substeps, which the comment used to give, is off
 
   const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"));
   EXPECT_EQ(summary["settings"]["steps"], 30);
@@ -212,6 +255,19 @@ TEST(Cli, OverridesGetTheScenesChecks) {
     EXPECT_NE(r.output.find("field '" + named + "'"), std::string::npos) << args << "\n"
                                                                          << r.output;
   }
+}
+
+// A trajectory past the output limit (100,000,000 rows: records times bodies) is refused before
+// the run, with a --record-every that fits; that setting then runs.
+TEST(Cli, ATrajectoryPastTheOutputLimitIsRefusedBeforeTheRun) {
+  const fs::path dir = scratch_dir("output_limit");
+  const std::string scene = kScenes + "free_flight.yaml";
+  const Result refused = run_cli("run " + scene + " --steps 200000000 -q -o " + dir.string());
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("more rows than the limit of 100,000,000"), std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("--record-every 3 or more"), std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(dir / "trajectory.csv"));
 }
 
 TEST(Cli, MissingSceneIsAUserError) {
@@ -353,7 +409,9 @@ pid_t start_long_run(const fs::path& out) {
   const std::string cli = TUMBLE_CLI;
   const std::string scene = kScenes + "stack10.yaml";
   const std::string dir = out.string();
-  std::vector<std::string> args = {cli, "run", scene, "-q", "--steps", "100000000", "-o", dir};
+  // A run of hours, writing every 1000th step (all of them would pass the output limit).
+  std::vector<std::string> args = {
+      cli, "run", scene, "-q", "--steps", "100000000", "--record-every", "1000", "-o", dir};
   std::vector<char*> argv;
   for (auto& a : args)
     argv.push_back(a.data());

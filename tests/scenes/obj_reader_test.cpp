@@ -62,6 +62,25 @@ TEST(ObjReader, VerticesAreTheValuesTheCheckRead) {
   EXPECT_EQ(mesh.vertices[2], Vec3(0, 1, 0.1));
 }
 
+// The triangle limit (10,000,000 per mesh) counts a face of n corners as n - 2 triangles and
+// stops at the line that passes it, before the mesh is built: 2,500,001 quads of four corners
+// (two triangles each) pass it on their last line.
+TEST(ObjReader, AMeshPastTheTriangleLimitIsRefusedAtTheLineThatPassesIt) {
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+  const std::string hexagon = "f 1 2 4 3 1 2\n";  // six corners: four triangles
+  text.reserve(text.size() + 2500001 * hexagon.size());
+  for (int i = 0; i < 2500001; ++i)
+    text += hexagon;
+  try {
+    (void)read_obj_string(text, "many.obj");
+    FAIL() << "a mesh of 10,000,004 triangles was read";
+  } catch (const ObjError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("line 2500005"), std::string::npos) << message;
+    EXPECT_NE(message.find("more than 10,000,000 triangles"), std::string::npos) << message;
+  }
+}
+
 TEST(ObjReader, RefusesPathsThatAreNotRegularFiles) {
   const std::filesystem::path fifo =
       std::filesystem::temp_directory_path() / ("tumble_obj_fifo_" + std::to_string(::getpid()));

@@ -130,5 +130,34 @@ TEST(SceneFiles, AHullFileIsReadLikeAMeshFile) {
   EXPECT_EQ(refusal(f.scene_with("{type: hull, file: points.obj}")), "");
 }
 
+// A file past the size limit (1 GiB) is refused before it is read, whether the scene itself, a
+// mesh, a hull's points or an OpenVDB volume; a sparse file stands in for a large one.
+TEST(SceneFiles, AFileLargerThanTheLimitIsRefusedBeforeItIsRead) {
+  const Folders folders;
+  const fs::path big = folders.scene_dir / "big.obj";
+  write(big, kTetrahedron);
+  fs::resize_file(big, (std::uintmax_t(1) << 30) + 1);
+  for (const std::string shape : {"{type: mesh, file: big.obj}", "{type: hull, file: big.obj}"}) {
+    const std::string message = refusal(folders.scene_with(shape));
+    EXPECT_NE(message.find("larger than the limit of 1 GiB"), std::string::npos) << message;
+    EXPECT_NE(message.find("1073741825 bytes"), std::string::npos) << message;
+  }
+  const fs::path vdb = folders.scene_dir / "big.vdb";
+  write(vdb, "");
+  fs::resize_file(vdb, (std::uintmax_t(1) << 30) + 1);
+  const std::string vdb_message =
+      refusal(folders.scene_with("{type: sdf, sdf: {grid: {file: big.vdb}}}, density: 1000"));
+  // Without OpenVDB the build refuses .vdb files for that reason first.
+  EXPECT_TRUE(vdb_message.find("larger than the limit of 1 GiB") != std::string::npos ||
+              vdb_message.find("needs a build with OpenVDB") != std::string::npos)
+      << vdb_message;
+  const fs::path scene = folders.scene_dir / "huge.yaml";
+  write(scene, "world: {dt: 0.01}\n");
+  fs::resize_file(scene, (std::uintmax_t(1) << 30) + 1);
+  const std::string scene_message = refusal(scene);
+  EXPECT_NE(scene_message.find("larger than the limit of 1 GiB"), std::string::npos)
+      << scene_message;
+}
+
 }  // namespace
 }  // namespace tumble
