@@ -58,10 +58,25 @@ AtomicFile::~AtomicFile() {
   std::filesystem::remove(temporary_, ignored);
 }
 
+void AtomicFile::check() const {
+  if (out_)
+    return;
+  std::string message = target_.string();
+  message += ": write failed";
+  if (errno != 0) {
+    message += " (";
+    message += std::strerror(errno);
+    message += ")";
+  }
+  throw std::runtime_error(message);
+}
+
 void AtomicFile::commit() {
-  out_.flush();
-  if (!out_)
-    throw std::runtime_error(target_.string() + ": write failed");
+  if (out_) {
+    errno = 0;
+    out_.flush();
+  }
+  check();
   out_.close();
   std::error_code ec;
   std::filesystem::rename(temporary_, target_, ec);

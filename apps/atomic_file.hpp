@@ -21,6 +21,10 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   std::ostream& stream() { return out_; }
+  // Throws std::runtime_error naming the target and the system's reason ("No space left on
+  // device") once a write to stream() has failed. Writers call it after each record, while errno
+  // still holds the failed write's reason, so that a full disk stops a run at once and says why.
+  void check() const;
   // Flushes, closes and renames onto the target. Throws std::runtime_error on any failure.
   void commit();
   const std::filesystem::path& target() const { return target_; }

@@ -1,5 +1,7 @@
 #include "apps/contacts_writer.hpp"
 
+#include <cerrno>
+
 #include "apps/csv_field.hpp"
 #include "apps/number_format.hpp"
 
@@ -10,6 +12,7 @@ ContactsWriter::ContactsWriter(const std::filesystem::path& path) : file_(path) 
 }
 
 void ContactsWriter::record(const World& world) {
+  errno = 0;  // so that a failed write's reason is the one file_.check() reports
   std::ostream& out = file_.stream();
   for (const ContactReport& r : world.contact_reports()) {
     const std::string a = world.name(r.body_a);
@@ -39,6 +42,7 @@ void ContactsWriter::record(const World& world) {
       out << '\n';
     }
   }
+  file_.check();
 }
 
 }  // namespace tumble::app

@@ -1,6 +1,7 @@
 #include "apps/npy_trajectory_writer.hpp"
 
 #include <bit>
+#include <cerrno>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,7 @@ NpyTrajectoryWriter::NpyTrajectoryWriter(const std::filesystem::path& path, std:
 }
 
 void NpyTrajectoryWriter::record(const State& state) {
+  errno = 0;  // so that a failed write's reason is the one file_.check() reports
   std::ostream& out = file_.stream();
   for (const int index : bodies_) {
     const BodyState& b = state.bodies[std::size_t(index)];
@@ -44,6 +46,7 @@ void NpyTrajectoryWriter::record(const State& state) {
     out.write(reinterpret_cast<const char*>(values), sizeof values);
   }
   ++records_;
+  file_.check();
 }
 
 void NpyTrajectoryWriter::finish() {

@@ -1,5 +1,7 @@
 #include "apps/trajectory_writer.hpp"
 
+#include <cerrno>
+
 #include "apps/csv_field.hpp"
 #include "apps/number_format.hpp"
 
@@ -20,6 +22,7 @@ TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, const Scen
 }
 
 void TrajectoryWriter::record(const State& state) {
+  errno = 0;  // so that a failed write's reason is the one file_.check() reports
   std::ostream& out = file_.stream();
   for (const int index : bodies_) {
     const auto i = std::size_t(index);
@@ -38,6 +41,7 @@ void TrajectoryWriter::record(const State& state) {
     }
     out << '\n';
   }
+  file_.check();
 }
 
 }  // namespace tumble::app

@@ -2,12 +2,15 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -501,6 +504,33 @@ TEST(Cli, AWriteThatFailsPartWayLeavesThePreviousOutputs) {
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_LT(r.exit_code, 128) << r.output;  // an error exit, not a signal
   EXPECT_NE(r.output.find("trajectory.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::strerror(EFBIG)), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
+  EXPECT_EQ(read_file(dir / "summary.json"), summary);
+  EXPECT_EQ(temporary_files_in(dir), 0);
+}
+
+// The same on a full disk: a 64 KiB tmpfs, where the write fails with ENOSPC. Mounting needs
+// privileges (root, or CAP_SYS_ADMIN); without them the test says so and skips.
+TEST(Cli, AFullDiskLeavesThePreviousOutputs) {
+  const fs::path dir = scratch_dir("tmpfs");
+  if (::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+  struct Unmount {
+    fs::path dir;
+    ~Unmount() { ::umount(dir.c_str()); }
+  } unmount{dir};
+  ASSERT_EQ(
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 5 -o " + dir.string()).exit_code, 0);
+  const std::string trajectory = read_file(dir / "trajectory.csv");
+  const std::string summary = read_file(dir / "summary.json");
+  ASSERT_FALSE(trajectory.empty());
+  // About 300 KB of trajectory for 64 KiB of disk.
+  const Result r =
+      run_cli("run " + kScenes + "free_flight.yaml -q --steps 2000 -o " + dir.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("trajectory.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::strerror(ENOSPC)), std::string::npos) << r.output;
   EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
   EXPECT_EQ(read_file(dir / "summary.json"), summary);
   EXPECT_EQ(temporary_files_in(dir), 0);
