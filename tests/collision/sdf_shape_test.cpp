@@ -6,11 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <random>
+#include <vector>
 
+#include "collision/closest_point_on_triangle.hpp"
 #include "collision/narrow_phase/narrow_phase.hpp"
+#include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
@@ -184,6 +188,76 @@ TEST(SdfContact, BoxIntoAFieldBoxMatchesTheBoxPairWithinACell) {
   }
   EXPECT_GT(compared, cases / 50);
   EXPECT_LT(worst, field.sdf->cell_size()) << "largest depth error " << worst << " m";
+}
+
+// A hull against a field ball: the truth is the ball's radius less the distance from its centre
+// to the hull, by brute force over the hull's faces (the nearest point of each face polygon). The
+// hull meets the field through its corners and edges (sampled at the field's point spacing,
+// evaluated in the exact sphere field) and the field's surface points inside it (refined in the
+// hull's face-plane distance), so a face touching the ball is found by the second kind alone.
+// Measured over 256 contacts (up to 5 cm deep): the normal within 0.39 rad of the true one and
+// the depth within 2.8 mm (the field's cell is 2.1 cm). Both errors are the manifold's one normal,
+// the depth-weighted mean of its candidates' (docs/sdf.md, "Not yet"): a corner poking into the
+// ball has the exact normal and depth itself, and shallower candidates around it, with normals up
+// to 60 degrees away, turn the mean; each point's depth is then taken along the mean.
+Real distance_to_hull(const ConvexHull& hull, const Transform& pose, const Vec3& world_point,
+                      Vec3& nearest) {
+  const Vec3 p = pose.apply_inverse(world_point);
+  Real best = std::numeric_limits<Real>::infinity();
+  for (const HullFace& f : hull.faces()) {
+    const auto v = [&](int k) {
+      return hull.vertex(hull.face_vertices()[std::size_t(f.first_index + k)]);
+    };
+    for (int k = 1; k + 1 < f.count; ++k) {
+      const Vec3 q = closest_point_on_triangle(p, v(0), v(k), v(k + 1));
+      if ((q - p).norm() < best) {
+        best = (q - p).norm();
+        nearest = pose.apply(q);
+      }
+    }
+  }
+  return best;
+}
+
+TEST(SdfContact, AHullAgainstAFieldBallHasTheDepthOfItsNearestPoint) {
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  const Shape field = sdf_shape(SdfNode::sphere(0.5));
+  const int cases = scaled(2000);
+  int compared = 0;
+  Real worst_depth = 0, worst_angle = 0;
+  for (int i = 0; i < cases; ++i) {
+    std::vector<Vec3> points(10);
+    for (Vec3& q : points)
+      q = 0.3 * Vec3(u(rng), u(rng), u(rng));
+    const auto hull = std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
+    const Shape a = Shape::convex_hull(hull);
+    const Transform pose_b{Vec3(u(rng), u(rng), u(rng)), field_test_rotation(rng)};
+    Vec3 dir(u(rng), u(rng), u(rng));
+    if (dir.norm() < 1e-3)
+      continue;
+    dir.normalize();
+    // The hull's centre 0.5 to 0.9 from the ball's; keep the cases that touch by up to 5 cm.
+    const Transform pose_a{pose_b.translation + (0.5 + 0.4 * (u(rng) + 1) / 2) * dir,
+                           field_test_rotation(rng)};
+    Vec3 nearest = Vec3::Zero();
+    const Real gap = distance_to_hull(*hull, pose_a, pose_b.translation, nearest);
+    const Real depth = 0.5 - gap;
+    if (depth < 0.002 || depth > 0.05)
+      continue;
+    Manifold m;
+    const int n = collide(a, pose_a, field, pose_b, 0.0, m);
+    ASSERT_GT(n, 0) << i << " depth " << depth;
+    ++compared;
+    worst_depth = std::max(worst_depth, std::abs(deepest_point_depth(m, n) - depth));
+    const Vec3 normal = (nearest - pose_b.translation).normalized();  // from B to A
+    worst_angle = std::max(worst_angle, std::acos(std::min<Real>(1, m.normal.dot(normal))));
+  }
+  std::printf("[ stats    ] %d hull contacts: depth within %.3g m, normal within %.3g rad\n",
+              compared, worst_depth, worst_angle);
+  EXPECT_GT(compared, cases / 20);
+  EXPECT_LT(worst_depth, 0.004) << "largest depth error " << worst_depth << " m";
+  EXPECT_LT(worst_angle, 0.45) << "largest normal error " << worst_angle << " rad";
 }
 
 TEST(SdfContact, TwoFieldSpheresHaveTheExactDepth) {
