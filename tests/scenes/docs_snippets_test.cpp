@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -54,8 +53,13 @@ std::vector<Snippet> yaml_snippets() {
   return out;
 }
 
+// Whether a line of `text` starts with `key:` (a key of the document's top level).
 bool has_top_level_key(const std::string& text, const std::string& key) {
-  return std::regex_search(text, std::regex("(^|\n)" + key + ":"));
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind(key + ":", 0) == 0)
+      return true;
+  return false;
 }
 
 // A folder like scenes/: the meshes and the scene the sweep example names.
