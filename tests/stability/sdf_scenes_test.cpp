@@ -163,12 +163,13 @@ TEST(SdfScenes, FiftyBodiesPouredIntoAGridBowlStayInIt) {
   // The bowl is a grid SDF of a closed mesh (2 cm cells, tricubic): the inside of a sphere of
   // radius 0.6 m centred 0.8 m up, cut out of a box 1.4 m wide and 0.6 m tall. 50 bodies of five
   // kinds are dropped into it from 0.75-1 m. Every body must end inside the bowl (its centre
-  // within the sphere and above its lowest point), at rest, with no energy from nowhere. The
+  // within the sphere and above its lowest point), at rest after 10 s, with no energy from
+  // nowhere. The
   // sanitizer run (TUMBLE_PROPERTY_SCALE < 1) steps the first quarter second only (the bodies
   // reach the bowl at about 0.3 s): there it checks the grid's build and the first steps'
   // memory, not the pile.
   World world(sdf_scene("pour_into_grid_bowl.yaml"));
-  const Real seconds = property_scale() < 1 ? 0.25 : 4.0;
+  const Real seconds = property_scale() < 1 ? 0.25 : 10.0;
   const int steps = int(std::lround(seconds / world.scene().world.dt));
   const Vec3 centre(0, 0, 0.8);
   std::vector<BodyId> bodies;
@@ -213,7 +214,8 @@ TEST(SdfScenes, NutThreadsOntoTheBoltAndRestsOnItsHead) {
   world.step(240);  // 1 s: it has fallen 0.52 m down the shaft and stopped
   const BodyState landed = world.body_state(nut);
   Real drift = 0, lowest = landed.position.z(), widest = 0;
-  const int steps = int(std::lround(4 * property_scale() / world.scene().world.dt));
+  // Then 9 s more resting on the head: 10 s in all.
+  const int steps = int(std::lround(9 * property_scale() / world.scene().world.dt));
   for (int i = 0; i < steps; ++i) {
     world.step();
     const BodyState s = world.body_state(nut);
