@@ -8,7 +8,9 @@
 //   contact, a pair with a plane, mesh or compound: the narrow phase's manifold, whose deepest
 //     point gives the distance and witnesses ("status_source": "manifold"; statuses
 //     "penetrating", "touching", "separated", "beyond_margin", "unsupported" for two static
-//     shapes such as mesh and mesh).
+//     shapes such as mesh and mesh). A pair with a field adds "refinements" and
+//     "refinements_capped": its surface walks, and those that stopped at their step cap, and
+//     "deepest_walk": "converged" or "capped", the status of the walk that ended deepest.
 //   Both list the manifold's "contacts" from collide() with the query's margin (default 10 m,
 //     so apart shapes are listed too), and "state" (penetrating / touching / separated) from the
 //     sign of the distance.
@@ -174,6 +176,11 @@ std::string answer_contact(const ShapeQuery& q) {
   write_vector(out, d.point_on_a(m.normal));
   out << ",\"point_b\":";
   write_vector(out, d.point_on_b(m.normal));
+  if (q.a.type == ShapeType::sdf || q.b.type == ShapeType::sdf) {
+    // The surface walks of a field pair, and those stopped at their step cap (docs/sdf.md).
+    out << ",\"refinements\":" << m.refined << ",\"refinements_capped\":" << m.refine_capped
+        << ",\"deepest_walk\":\"" << (m.deepest_walk_capped ? "capped" : "converged") << '"';
+  }
   write_contacts(out, m, count);
   out << '}';
   return out.str();

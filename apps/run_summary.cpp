@@ -140,6 +140,8 @@ nlohmann::json RunSummary::to_json_object(bool timings) const {
         {"axis_cache_tries", totals_.axis_cache_tries},
         {"axis_cache_hits", totals_.axis_cache_hits},
         {"gjk_warm_starts", totals_.gjk_warm_starts},
+        {"sdf_refinements", totals_.sdf_refinements},
+        {"sdf_refinements_capped", totals_.sdf_refinements_capped},
         {"contact_points", totals_.contact_points},
         {"max_contact_points_in_a_step", max_contact_points_},
         {"solver_iterations", totals_.solver_iterations},

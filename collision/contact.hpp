@@ -44,6 +44,14 @@ struct Manifold {
   // is measured in a curved field; there the solver follows the surface through the step
   // instead of its tangent plane (docs/architecture.md, "Curved contacts").
   PackedSymmetric separation_curvature{};
+  // Field contacts (narrow_phase/pairs/sdf_pairs.cpp): how many candidate points the surface walk
+  // refined, and how many of those stopped at its step cap before converging (their depth is then
+  // the walk's last, a lower bound). Zero for every other pair.
+  std::uint16_t refined = 0;
+  std::uint16_t refine_capped = 0;
+  // Whether the walk that ended deepest (the one the manifold's depth comes from, when a walk's
+  // point is the deepest candidate) was one of the capped ones.
+  bool deepest_walk_capped = false;
 
   void add(const Vec3& position, Real depth, FeatureId feature) {
     if (count < kMaxManifoldPoints)

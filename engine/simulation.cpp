@@ -906,6 +906,7 @@ void Simulation::collide_candidate_pairs() {
   next_gjk_caches_.clear();
   next_hull_axes_.clear();
   std::int64_t recycled = 0;
+  std::int64_t sdf_refined = 0, sdf_refine_capped = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
     if (candidate_axis_[i] != kNoBoxAxis)
@@ -928,6 +929,11 @@ void Simulation::collide_candidate_pairs() {
     }
     if (manifold.count == 0)
       continue;
+    if (candidate_kept_[i] < 0 &&
+        (a.shape.type == ShapeType::sdf || b.shape.type == ShapeType::sdf)) {
+      sdf_refined += manifold.refined;
+      sdf_refine_capped += manifold.refine_capped;
+    }
     PairContact pc;
     pc.manifold = manifold;
     pc.body_a = pair.a;
@@ -955,6 +961,8 @@ void Simulation::collide_candidate_pairs() {
   current_.axis_cache_tries += hull_tries;
   current_.axis_cache_hits += hull_hits;
   current_.gjk_warm_starts += gjk_warm;
+  current_.sdf_refinements += sdf_refined;
+  current_.sdf_refinements_capped += sdf_refine_capped;
   current_.axis_cache_tries += axis_tries;
   current_.axis_cache_hits += axis_hits;
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());

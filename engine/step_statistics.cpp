@@ -58,6 +58,8 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   axis_cache_tries += o.axis_cache_tries;
   axis_cache_hits += o.axis_cache_hits;
   gjk_warm_starts += o.gjk_warm_starts;
+  sdf_refinements += o.sdf_refinements;
+  sdf_refinements_capped += o.sdf_refinements_capped;
   recycle_seconds += o.recycle_seconds;
   recompute_seconds += o.recompute_seconds;
   contact_points += o.contact_points;

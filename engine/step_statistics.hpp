@@ -51,6 +51,10 @@ struct StepStatistics {
   std::int64_t axis_cache_hits = 0;
   // Pairs answered by GJK that started from last step's separating axis.
   std::int64_t gjk_warm_starts = 0;
+  // Field contacts' surface walks (collision/narrow_phase/pairs/sdf_pairs.cpp) in the pairs
+  // collided afresh that touch, and of those the walks that stopped at their step cap.
+  std::int64_t sdf_refinements = 0;
+  std::int64_t sdf_refinements_capped = 0;
   // Of the narrow phase's time: sorting the candidates while recycling the kept manifolds, and
   // the queries of the pairs collided afresh [s].
   double recycle_seconds = 0;

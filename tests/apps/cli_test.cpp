@@ -273,6 +273,21 @@ TEST(Cli, ATrajectoryPastTheOutputLimitIsRefusedBeforeTheRun) {
   EXPECT_FALSE(fs::exists(dir / "trajectory.csv"));
 }
 
+// summary.json counts the field contacts' surface walks and the capped ones (docs/sdf.md).
+TEST(Cli, TheSummaryCountsTheFieldContactsWalks) {
+  const fs::path dir = scratch_dir("sdf_walks");
+  const Result r =
+      run_cli("run " + kScenes + "sdf/torus_on_plane.yaml -q --steps 30 -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto counts = nlohmann::json::parse(read_file(dir / "summary.json"))["counts"];
+  EXPECT_GT(counts["sdf_refinements"].get<std::int64_t>(), 0);
+  EXPECT_LE(counts["sdf_refinements_capped"].get<std::int64_t>(),
+            counts["sdf_refinements"].get<std::int64_t>());
+  const Result boxes = run_cli("run " + kScenes + "stack10.yaml -q --steps 5 -o " + dir.string());
+  ASSERT_EQ(boxes.exit_code, 0) << boxes.output;
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir / "summary.json"))["counts"]["sdf_refinements"], 0);
+}
+
 TEST(Cli, MissingSceneIsAUserError) {
   for (const std::string verb : {"run", "validate"}) {
     const Result r = run_cli(verb + " /nonexistent/dir/scene.yaml");

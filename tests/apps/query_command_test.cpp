@@ -113,6 +113,29 @@ queries:
   EXPECT_EQ(q[5]["status"], "unsupported");
 }
 
+// A pair with a field reports its surface walks: how many, how many stopped at the step cap,
+// and whether the deepest one converged; other pairs do not have the fields.
+TEST(QueryCommand, AFieldPairReportsItsSurfaceWalks) {
+  const fs::path file = write_query_file("fields.yaml", R"(
+queries:
+  - name: two_field_balls
+    a: {shape: {type: sdf, sdf: {sphere: {radius: 0.3}}}, position: [0.1, 0, 0.79]}
+    b: {shape: {type: sdf, sdf: {sphere: {radius: 0.5}}}}
+  - name: ball_on_mesh
+    a: {shape: {type: sphere, radius: 0.5}, position: [0.2, 0.2, 0.4]}
+    b:
+      shape: {type: mesh, vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0]], triangles: [[0, 1, 2]]}
+)");
+  const Output r = run_query(file);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const std::vector<nlohmann::json> answers = lines_of(r.text);
+  ASSERT_EQ(answers.size(), 2u);
+  EXPECT_GT(answers[0]["refinements"].get<int>(), 0);
+  EXPECT_LE(answers[0]["refinements_capped"].get<int>(), answers[0]["refinements"].get<int>());
+  EXPECT_EQ(answers[0]["deepest_walk"], "converged");
+  EXPECT_FALSE(answers[1].contains("refinements"));
+}
+
 TEST(QueryCommand, BadFileNamesFileLineAndField) {
   const fs::path file = write_query_file("bad.yaml", R"(queries:
   - name: broken

@@ -33,7 +33,8 @@ namespace {
 
 constexpr std::uint16_t kSdfSurface = 0xfffe;
 constexpr int kRefineSteps = 16;
-constexpr std::size_t kRegions = 64;  // 2^6: the hash below keeps 6 bits
+constexpr Real kConvergedTurn = Real(1e-6);  // rad, between the surface's and partner's normals
+constexpr std::size_t kRegions = 64;         // 2^6: the hash below keeps 6 bits
 constexpr int kMaxSamplesPerSide = 8;
 constexpr Real kPi = Real(3.14159265358979323846);
 
@@ -114,8 +115,13 @@ struct Surface {
 // sum of the two surfaces' curvatures, measured over the last step, so alpha = moved / (how
 // much delta fell) lands near the optimum (Newton's step on delta, with a secant slope). A step
 // that does not lower the partner's distance is halved.
+// `capped` is set when the walk used all its kRefineSteps steps with the normals still more than
+// kConvergedTurn apart: it stopped short of the optimum. (It goes on to 1e-12 when it can; at
+// 1e-6 rad the depth is within R 1e-12 / 2 of the optimum's, R the radius of curvature. A
+// stalled walk, whose halved steps lower nothing, is at the optimum to rounding.)
 template <class Partner>
-Vec3 refine_on_surface(const Surface& surface, const Partner& partner, Vec3 x, Real cell) {
+Vec3 refine_on_surface(const Surface& surface, const Partner& partner, Vec3 x, Real cell,
+                       bool& capped) {
   const auto project = [&](Vec3 p, sdf::Sample& s) {
     for (int k = 0; k < 3; ++k) {
       s = surface.sample(p);
@@ -139,7 +145,12 @@ Vec3 refine_on_surface(const Surface& surface, const Partner& partner, Vec3 x, R
   Vec3 t;
   Real delta = misalignment(here, other, t);
   Real alpha = cell;
-  for (int i = 0; i < kRefineSteps && delta > Real(1e-12); ++i) {
+  capped = false;
+  for (int i = 0; delta > Real(1e-12); ++i) {
+    if (i == kRefineSteps) {
+      capped = delta > kConvergedTurn;
+      break;
+    }
     sdf::Sample next_here;
     const Vec3 next = project(x - alpha * t, next_here);
     const sdf::Sample next_other = partner(next, true);
@@ -232,9 +243,22 @@ void for_each_surface_sample(const Shape& a, Real spacing, F&& f) {
 // distance puts within the margin. The deepest point of each region (cubes of a quarter of B's
 // bounding radius, hashed into kRegions slots) is refined, so that a resting ring or face gives
 // points all around it, not only where it is a hair deeper.
+// How many walks surface_points_against ran, and how many stopped at the step cap.
+struct RefineCounts {
+  int refined = 0;
+  int capped = 0;
+  Real deepest = -std::numeric_limits<Real>::infinity();
+  bool deepest_capped = false;
+  void into(Manifold& m) const {
+    m.refined = std::uint16_t(std::min(refined, 0xffff));
+    m.refine_capped = std::uint16_t(std::min(capped, 0xffff));
+    m.deepest_walk_capped = deepest_capped;
+  }
+};
+
 template <class Partner, class Emit>
 void surface_points_against(const Surface& surface, const Aabb& box, const Partner& partner,
-                            Real margin, Emit&& emit) {
+                            Real margin, RefineCounts& counts, Emit&& emit) {
   struct Raw {
     std::int64_t region = -1;
     int index = 0;
@@ -283,11 +307,18 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
     if (raw.region < 0)
       continue;
     const Vec3 start = surface.pose.apply(field.surface_point(raw.index));
-    const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size());
+    bool capped = false;
+    const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size(), capped);
+    ++counts.refined;
+    counts.capped += capped ? 1 : 0;
     const sdf::Sample own = surface.sample(x);
     const sdf::Sample other = partner(x, true);
     if (!(other.distance < margin))
       continue;
+    if (-other.distance > counts.deepest) {
+      counts.deepest = -other.distance;
+      counts.deepest_capped = capped;
+    }
     // The partner is pushed off the surface point the shortest way out of it: against its own
     // gradient there (at the optimum also the surface's normal, but a flat partner's gradient
     // is exact where the curved surface's normal still carries the walk's last error).
@@ -314,6 +345,7 @@ Mat3 field_hessian(const SdfShape& field, const Vec3& x, Real time, Real step) {
 int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real time,
                        Real margin, Manifold& out) {
   ContactCollector collector;
+  RefineCounts refine_counts;
   const Aabb b_box = field.local_bounds().inflated(margin);
   const Surface surface{&field, Transform{}, time};
   // A sphere's or capsule's core is `radius` from the surface when they touch: evaluated directly
@@ -367,7 +399,7 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
       return partner_sample(a, pose_a, x, gradient);
     };
     surface_points_against(
-        surface, a_box, partner, margin,
+        surface, a_box, partner, margin, refine_counts,
         [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
           // A is pushed out along B's normal; its point is `depth` inside B.
           const Real depth = -other.distance;
@@ -377,6 +409,7 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
   const int count =
       collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
                        ContactCollector::NormalRule::weighted_mean);
+  refine_counts.into(out);
   if (direct && count > 0) {
     // The core's separation is phi - radius, so it bends as phi does. Differences a quarter of
     // the radius (or of a cell) apart resolve any surface the ball fits in; a kink between
@@ -401,6 +434,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
   const Aabb b_box = field.local_bounds().inflated(margin);
   const Aabb query = b_box.placed(pose_a.inverse());  // B's box in the mesh's frame
   ContactCollector collector;
+  RefineCounts refine_counts;
   const Surface surface{&field, Transform{}, time};
   const Real spacing = field.cell_size();
   mesh.for_each_overlapping(query, [&](int t) {
@@ -444,7 +478,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
       return s;
     };
     surface_points_against(
-        surface, prism, partner, margin,
+        surface, prism, partner, margin, refine_counts,
         [&](const Vec3& x, const Vec3& nb, const sdf::Sample& other, std::uint16_t point) {
           if (!inside_prism(x) || other.distance < -thickness)
             return;
@@ -452,8 +486,11 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
           collector.add(nb, x - nb * depth, depth, {std::uint16_t(id | 7), point});
         });
   });
-  return collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
-                          ContactCollector::NormalRule::weighted_mean);
+  const int count =
+      collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
+                       ContactCollector::NormalRule::weighted_mean);
+  refine_counts.into(out);
+  return count;
 }
 
 }  // namespace
@@ -487,9 +524,11 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   Aabb overlap{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)};
   overlap = overlap.inflated(margin);
   ContactCollector collector;
+  RefineCounts refine_counts;
   // B's points in A's field: A is pushed along B's normal.
   surface_points_against(
       surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin,
+      refine_counts,
       [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
         const Real depth = -other.distance;
         collector.add(n, x - n * depth, depth, {kSdfSurface, id});
@@ -497,6 +536,7 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   // A's points in B's field: the point lies on A, pushed along B's gradient.
   surface_points_against(
       surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin,
+      refine_counts,
       [&](const Vec3& x, const Vec3&, const sdf::Sample& other, std::uint16_t id) {
         collector.add(normalized_or(other.gradient, Vec3::UnitZ()), x, -other.distance,
                       {id, kSdfSurface});
@@ -505,6 +545,7 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
       margin,
       ContactCollector::kMergeFraction * std::min(fa.bounding_radius(), fb.bounding_radius()), out,
       ContactCollector::NormalRule::weighted_mean);
+  refine_counts.into(out);
   out.normal = pose_b.rotate(out.normal);
   for (int i = 0; i < count; ++i)
     out.points[i].position = pose_b.apply(out.points[i].position);
