@@ -131,20 +131,6 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   swept_list_.clear();
   moved_on_list_.clear();
-  if (mode == CcdMode::off || !may_sweep(scene, start, bodies)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      swept_[i] = 0;
-      earliest_[i] = 1;
-      hit_partner_[i] = -1;
-      plan_from_[i] = 0;
-      moving_on_[i] = 0;
-      moved_on_[i] = 0;
-    }
-    return counts;
-  }
-  // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
-  // phase covers its start pose, so that box grown by this covers its whole motion.
-  Real unswept_travel = 0;
   for (std::size_t i = 0; i < n; ++i) {
     swept_[i] = 0;
     earliest_[i] = 1;
@@ -152,6 +138,13 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     plan_from_[i] = 0;
     moving_on_[i] = 0;
     moved_on_[i] = 0;
+  }
+  if (mode == CcdMode::off || !may_sweep(scene, start, bodies))
+    return counts;
+  // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
+  // phase covers its start pose, so that box grown by this covers its whole motion.
+  Real unswept_travel = 0;
+  for (std::size_t i = 0; i < n; ++i) {
     const BodyDesc& d = scene.bodies[i];
     if (d.is_static) {
       motions_[i] = RigidMotion::stationary(start[i]);

@@ -39,15 +39,6 @@
 #include "collision/narrow_phase/narrow_phase.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
 
-// A vector's ABI depends on the instruction set, and GCC warns about it (-Wpsabi) even for
-// functions of internal linkage; every function here that takes or returns one is inlined.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-#define TUMBLE_LANES_INLINE [[gnu::always_inline]] inline
-#define TUMBLE_LAMBDA_INLINE __attribute__((always_inline))
-
 namespace tumble {
 namespace {
 
@@ -120,52 +111,10 @@ constexpr int kChunk = 64;
 
 }  // namespace
 
-// Each version is the lanes file compiled for one instruction set, with vectors as wide as its
-// registers, so that GCC never splits a vector into narrower pieces through memory: 8 lanes for
-// AVX-512, 4 for AVX2, 2 (SSE2) for the baseline. The target pragma makes every function of the
-// file, the helpers included, code for that instruction set.
-namespace {
-namespace lanes8 {
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f")
-#endif
-constexpr int kLanes = 8;
-#include "collision/narrow_phase/box_batch_lanes.inc"
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
-}  // namespace lanes8
-}  // namespace
-
-namespace {
-namespace lanes4 {
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
-constexpr int kLanes = 4;
-#include "collision/narrow_phase/box_batch_lanes.inc"
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
-}  // namespace lanes4
-}  // namespace
-
-namespace {
-namespace lanes2 {
-constexpr int kLanes = 2;
-#include "collision/narrow_phase/box_batch_lanes.inc"
-}  // namespace lanes2
-}  // namespace
+// The lanes file compiled once per instruction set (collision/simd/lane_versions.inc).
+#define TUMBLE_LANES_FILE "collision/narrow_phase/box_batch_lanes.inc"
+#include "collision/simd/lane_versions.inc"
+#undef TUMBLE_LANES_FILE
 
 namespace {
 
