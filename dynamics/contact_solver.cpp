@@ -142,11 +142,16 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
                                  std::span<const BodyMass> masses,
                                  std::span<const Mat3> inverse_inertia_world, Real dt,
                                  const Vec3& gravity, ManifoldRecord& m, ContactLoad& load) {
-  m = ManifoldRecord{};
+  // Every field the later stages read is written here, once: the record is not first reset to
+  // its defaults (that reset, stored in small pieces and read back whole, stalled store
+  // forwarding and was a quarter of the build). Points past `count`, the slots (pack) and the
+  // Delassus entries past the count's triangle are never read.
   const std::int32_t a = pc.body_a;
   const std::int32_t b = pc.body_b;
   m.body_a = a;
   m.body_b = b;
+  m.slot_a = 0;
+  m.slot_b = 0;
   m.count = pc.manifold.count;
   m.normal = pc.manifold.normal;
   orthonormal_basis(m.normal, m.tangent1, m.tangent2);
@@ -192,6 +197,9 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent1);
     p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent2);
     p.base_separation = -cp.depth;
+    p.normal_impulse = 0;
+    p.tangent_impulse1 = 0;
+    p.tangent_impulse2 = 0;
     p.feature = cp.feature.key();
     p.local_a = sa.orientation.conjugate() * r_a;
   }
