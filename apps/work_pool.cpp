@@ -2,6 +2,7 @@
 #include "apps/work_pool.hpp"
 
 #include <cstdlib>
+#include <new>
 
 namespace tumble::app {
 
@@ -41,6 +42,8 @@ std::vector<std::string> run_tasks_here(std::span<const std::size_t> order,
   for (const std::size_t i : order) {
     try {
       results.push_back(task(i));
+    } catch (const std::bad_alloc&) {
+      throw;  // reported as running out of memory, not as a fault of the task
     } catch (const std::exception& e) {
       throw WorkError(who + "task " + std::to_string(i) + ": " + e.what());
     }

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <optional>
 #include <sstream>
 #include <system_error>
@@ -203,12 +204,15 @@ Scene load_scene_string(std::string_view yaml, std::string_view source_name,
     return Loader(source, options).load(yaml, overrides);
   } catch (const SceneError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    // Running out of memory is not a fault of the file: callers report it as such (the command
+    // line with its own exit code, Python as MemoryError).
+    throw;
   } catch (const YAML::Exception& e) {
     // Parser errors carry yaml-cpp's own position and message; keep both.
     throw yaml_syntax_error(e, source);
   } catch (const std::exception& e) {
-    // The contract is that callers only ever see SceneError (an allocation failure on a huge
-    // file included).
+    // Anything else a library throws while loading is reported as a scene error.
     throw SceneError(source, 0, 0, "", std::string("cannot load scene: ") + e.what());
   } catch (...) {
     throw SceneError(source, 0, 0, "", "cannot load scene: unknown error");
@@ -226,6 +230,8 @@ Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOv
   try {
     text = read_file(path, source);
   } catch (const SceneError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
     throw SceneError(source, 0, 0, "", std::string("cannot open scene file (") + e.what() + ")");

@@ -551,5 +551,43 @@ TEST(Cli, AFullDiskLeavesThePreviousOutputs) {
   EXPECT_EQ(temporary_files_in(dir), 0);
 }
 
+// Memory the scene needs past what the process may have: `tumble: out of memory` and exit code 4,
+// not a scene error or an internal one. The same scene with coarser cells runs under the same
+// limit, so the limit is what fails, not the file. AddressSanitizer reserves terabytes of
+// address space for its shadow, so an address-space limit cannot be set under it.
+TEST(Cli, RunningOutOfMemoryIsReportedAsSuch) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "an address-space limit does not work under AddressSanitizer";
+#else
+  const fs::path dir = scratch_dir("memory");
+  fs::copy_file(kScenes + "sdf/meshes/bowl_closed.obj", dir / "bowl.obj");
+  const auto scene = [&](const std::string& cell) {
+    const fs::path path = dir / ("bowl_" + cell + ".yaml");
+    std::ofstream(path) << "world: {dt: 0.01, duration: 0.02}\n"
+                           "bodies:\n"
+                           "  - name: bowl\n"
+                           "    static: true\n"
+                           "    shape: {type: sdf, sdf: {grid: {file: bowl.obj, cell: "
+                        << cell << "}}}\n";
+    return path.string();
+  };
+  // 600 MB of address space: the program and its libraries take about half.
+  const auto run_limited = [&](const std::string& path) {
+    std::string command("ulimit -v 600000 && ");
+    command.append(TUMBLE_CLI).append(" run -q ").append(path).append(" -o ");
+    command.append((dir / "out").string()).append(" 2>&1");
+    return run_shell(command);
+  };
+  const Result coarse = run_limited(scene("0.02"));
+  ASSERT_EQ(coarse.exit_code, 0) << coarse.output;
+  // 3 mm cells: tens of millions of nodes, within the grid's node limit.
+  const Result fine = run_limited(scene("0.003"));
+  EXPECT_EQ(fine.exit_code, 4) << fine.output;
+  EXPECT_NE(fine.output.find("tumble: out of memory"), std::string::npos) << fine.output;
+  EXPECT_EQ(fine.output.find("internal error"), std::string::npos) << fine.output;
+  EXPECT_EQ(fine.output.find("bad_alloc"), std::string::npos) << fine.output;
+#endif
+}
+
 }  // namespace
 }  // namespace tumble::test
