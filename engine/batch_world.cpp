@@ -1,10 +1,8 @@
 // tumble::BatchWorld (include/tumble/batch_world.hpp): one World per environment, each stepped on
-// one thread; the worlds are spread over a oneTBB arena. A world touches only its own rows of the
+// one thread; the worlds are spread over the batch's threads (dynamics/parallel_runner.hpp, a
+// world per chunk). A world touches only its own rows of the
 // shared arrays, so the results do not depend on which thread runs which world.
 #include "tumble/batch_world.hpp"
-
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <limits>
 #include <string>
@@ -12,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "dynamics/parallel_runner.hpp"
 #include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
@@ -51,7 +50,7 @@ struct BatchWorld::Impl {
   std::vector<std::uint64_t> seeds, draws;
   int bodies = 0;
   int threads = 1;
-  std::unique_ptr<tbb::task_arena> arena;
+  std::unique_ptr<ParallelRunner> runner;
   std::vector<Real> observations, forces, torques, targets, contact_forces;
   std::vector<std::uint8_t> target_set;
   std::vector<std::int32_t> contact_counts;
@@ -185,9 +184,9 @@ struct BatchWorld::Impl {
         work(w);
       return;
     }
-    arena->execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
-        for (int w = r.begin(); w < r.end(); ++w)
+    runner->run([&] {
+      runner->for_chunks(n, 1, [&](std::int32_t begin, std::int32_t end) {
+        for (int w = begin; w < end; ++w)
           work(w);
       });
     });
@@ -254,7 +253,7 @@ void BatchWorld::set_threads(int threads) {
   if (threads > 1024)
     throw Error("BatchWorld::set_threads: " + std::to_string(threads) + " threads; at most 1024");
   impl_->threads = thread_count(threads);
-  impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
+  impl_->runner = std::make_unique<ParallelRunner>(impl_->threads);
 }
 
 std::span<const Real> BatchWorld::observations() const {

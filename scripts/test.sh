@@ -62,6 +62,10 @@ finish_part "sanitizer tests"
 bash scripts/clang_golden_hashes.sh O3
 finish_part "clang build and golden hashes"
 
+echo "== ThreadSanitizer build (clang) and the threaded tests =="
+bash scripts/tsan.sh
+finish_part "ThreadSanitizer build and threaded tests"
+
 # Every libFuzzer target of tests/fuzz, briefly, from their seeds (the repository's scenes, meshes
 # and queries, and the corpora of longer runs in tests/fuzz/seeds); a finding fails the run.
 # docs/reliability.md has the longer runs.

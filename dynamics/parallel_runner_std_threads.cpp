@@ -1,0 +1,123 @@
+// ParallelRunner on plain std::threads, for the ThreadSanitizer build (TUMBLE_TSAN) only: Debian's
+// oneTBB library is not instrumented, so ThreadSanitizer cannot see the hand-over of a task from
+// one thread to another inside it and reports the loops' every read as a race. Here every
+// hand-over is a mutex, a condition variable or an atomic it sees, so what it reports is a race in
+// tumble's own loops. The chunks are the same as oneTBB's simple partitioner makes (at most
+// `grain` each, covering [0, count)), so the results are too.
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "dynamics/parallel_runner.hpp"
+
+namespace tumble {
+
+namespace {
+
+// Set while a thread runs a chunk: a loop split from inside a chunk runs there in one piece
+// (the pool's workers are busy with the outer loop).
+thread_local bool in_chunk = false;
+
+}  // namespace
+
+struct ParallelRunner::Arena {
+  explicit Arena(int workers) {
+    for (int i = 0; i < workers; ++i)
+      threads.emplace_back([this] { serve(); });
+  }
+  ~Arena() {
+    {
+      const std::lock_guard lock(mutex);
+      stop = true;
+    }
+    wake.notify_all();
+    for (std::thread& t : threads)
+      t.join();
+  }
+
+  void run_chunks() {
+    in_chunk = true;
+    for (;;) {
+      const std::int32_t begin = next.fetch_add(grain);
+      if (begin >= count)
+        break;
+      body(context, begin, std::min(count, begin + grain));
+    }
+    in_chunk = false;
+  }
+
+  void serve() {
+    std::uint64_t seen = 0;
+    std::unique_lock lock(mutex);
+    for (;;) {
+      wake.wait(lock, [&] { return stop || generation != seen; });
+      if (stop)
+        return;
+      seen = generation;
+      lock.unlock();
+      run_chunks();
+      lock.lock();
+      if (--working == 0)
+        finished.notify_one();
+    }
+  }
+
+  void split(std::int32_t n, std::int32_t chunk, void (*work)(void*, std::int32_t, std::int32_t),
+             void* work_context) {
+    {
+      const std::lock_guard lock(mutex);
+      body = work;
+      context = work_context;
+      count = n;
+      grain = chunk;
+      next.store(0);
+      working = static_cast<int>(threads.size());
+      ++generation;
+    }
+    wake.notify_all();
+    run_chunks();
+    // Every worker passes through each loop once, so the next loop finds them all waiting.
+    std::unique_lock lock(mutex);
+    finished.wait(lock, [&] { return working == 0; });
+  }
+
+  std::mutex mutex;
+  std::condition_variable wake, finished;
+  std::vector<std::thread> threads;
+  std::uint64_t generation = 0;
+  int working = 0;
+  bool stop = false;
+  void (*body)(void*, std::int32_t, std::int32_t) = nullptr;
+  void* context = nullptr;
+  std::int32_t count = 0, grain = 1;
+  std::atomic<std::int32_t> next{0};
+};
+
+ParallelRunner::ParallelRunner(int threads) {
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  threads_ = threads > 0 ? threads : cores;
+  if (threads_ > 1)
+    arena_ = std::make_unique<Arena>(std::min(threads_, cores) - 1);
+}
+
+ParallelRunner::~ParallelRunner() = default;
+
+void ParallelRunner::enter(void (*work)(void*), void* context) const {
+  work(context);
+}
+
+void ParallelRunner::split(std::int32_t count, std::int32_t grain,
+                           void (*body)(void*, std::int32_t, std::int32_t), void* context) const {
+  ++split_loops_;
+  if (in_chunk || arena_->threads.empty()) {
+    for (std::int32_t begin = 0; begin < count; begin += grain)
+      body(context, begin, std::min(count, begin + grain));
+    return;
+  }
+  arena_->split(count, grain, body, context);
+}
+
+}  // namespace tumble
