@@ -54,6 +54,7 @@ struct BatchWorld::Impl {
   std::vector<Real> observations, forces, torques, targets, contact_forces;
   std::vector<std::uint8_t> target_set;
   std::vector<std::int32_t> contact_counts;
+  std::vector<std::uint8_t> listed;  // reset_worlds' scratch: how often each world is listed
 
   Real* row(std::vector<Real>& v, int world, int width) {
     return v.data() + std::size_t(world) * std::size_t(bodies) * std::size_t(width);
@@ -166,12 +167,14 @@ struct BatchWorld::Impl {
     return world;
   }
 
-  // World w made afresh from its draw of `seed`, or reset to the model's initial state.
+  // World w reset to its draw of `seed` (the drawn scene compiled, the world's buffers kept), or
+  // to the model's initial state.
   void renew(int w, std::uint64_t seed) {
     seeds[std::size_t(w)] = seed;
     World& world = worlds[std::size_t(w)];
     if (randomizing)
-      world = make_world(seed);
+      world.reset(
+          compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed))));
     else
       world.reset();
   }
@@ -302,19 +305,39 @@ void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::
       throw Error("BatchWorld::reset: world " + std::to_string(w) + " of " +
                   std::to_string(size()));
   }
-  for (std::size_t i = 0; i < worlds.size(); ++i) {
+  Impl& m = *impl_;
+  const auto renew = [&](std::size_t i) {
     const int w = worlds[i];
-    std::uint64_t& draw = impl_->draws[std::size_t(w)];
-    ++draw;
-    impl_->renew(
-        w, seeds.empty() ? draw_seed(impl_->base_seed, impl_->first_world + w, draw) : seeds[i]);
-    impl_->observe(w);
-    const std::size_t first = std::size_t(w) * std::size_t(impl_->bodies);
-    std::fill_n(impl_->contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * impl_->bodies,
-                Real(0));
-    std::fill_n(impl_->contact_counts.begin() + std::ptrdiff_t(first), impl_->bodies, 0);
-    std::fill_n(impl_->target_set.begin() + std::ptrdiff_t(first), impl_->bodies, 0);
+    m.renew(w, seeds.empty() ? draw_seed(m.base_seed, m.first_world + w, m.draws[std::size_t(w)])
+                             : seeds[i]);
+    m.observe(w);
+    const std::size_t first = std::size_t(w) * std::size_t(m.bodies);
+    std::fill_n(m.contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * m.bodies, Real(0));
+    std::fill_n(m.contact_counts.begin() + std::ptrdiff_t(first), m.bodies, 0);
+    std::fill_n(m.target_set.begin() + std::ptrdiff_t(first), m.bodies, 0);
+  };
+  // A world listed twice is reset twice, in order (its second draw is the one that stays).
+  // Otherwise each world's reset is its own, and they run on the batch's threads.
+  m.listed.assign(m.worlds.size(), 0);
+  bool repeated = false;
+  for (const int w : worlds)
+    repeated = repeated || m.listed[std::size_t(w)]++ != 0;
+  if (repeated || m.threads <= 1 || worlds.size() < 2) {
+    for (std::size_t i = 0; i < worlds.size(); ++i) {
+      ++m.draws[std::size_t(worlds[i])];
+      renew(i);
+    }
+    return;
   }
+  for (const int w : worlds)
+    ++m.draws[std::size_t(w)];
+  m.runner->run([&] {
+    m.runner->for_chunks(static_cast<std::int32_t>(worlds.size()), 1,
+                         [&](std::int32_t begin, std::int32_t end) {
+                           for (std::int32_t i = begin; i < end; ++i)
+                             renew(std::size_t(i));
+                         });
+  });
 }
 
 void BatchWorld::reset() {

@@ -22,16 +22,45 @@ namespace {
 
 using namespace scene_limits;
 
+// A field's name ("bodies[3].shape.half_extents[0]"), put together only when a check fails: a
+// valid scene, checked again at every randomized reset of a batch's world, built thousands of
+// strings for names nobody read. A Field refers to its parent, so it lives no longer than the
+// call it is made for.
+class Field {
+ public:
+  Field(const char* root) : member_(root) {}
+  Field(const Field& parent, const char* member) : parent_(&parent), member_(member) {}
+  Field(const Field& parent, std::size_t index) : parent_(&parent), index_(index) {}
+
+  std::string text() const {
+    std::string out = parent_ != nullptr ? parent_->text() : std::string();
+    if (member_ != nullptr)
+      out += member_;
+    if (index_ != kNoIndex) {
+      out += '[';
+      out += std::to_string(index_);
+      out += ']';
+    }
+    return out;
+  }
+
+ private:
+  static constexpr std::size_t kNoIndex = static_cast<std::size_t>(-1);
+  const Field* parent_ = nullptr;
+  const char* member_ = nullptr;
+  std::size_t index_ = kNoIndex;
+};
+
 class Checker {
  public:
   explicit Checker(const Scene& scene) : scene_(scene) {}
 
-  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
-    throw SceneError(scene_.source.empty() ? std::string("scene") : scene_.source, 0, 0, field,
-                     reason);
+  [[noreturn]] void fail(const Field& field, const std::string& reason) const {
+    throw SceneError(scene_.source.empty() ? std::string("scene") : scene_.source, 0, 0,
+                     field.text(), reason);
   }
 
-  void real(Real v, const RealSpec& spec, const std::string& field) const {
+  void real(Real v, const RealSpec& spec, const Field& field) const {
     const bool above = spec.lo_open ? v > spec.lo : v >= spec.lo;
     if (std::isfinite(v) && above && v <= spec.hi)
       return;
@@ -41,19 +70,19 @@ class Checker {
     fail(field, reason + ", got " + number_text(v));
   }
 
-  void integer(std::int64_t v, const IntSpec& spec, const std::string& field) const {
+  void integer(std::int64_t v, const IntSpec& spec, const Field& field) const {
     if (v >= spec.lo && v <= spec.hi)
       return;
     fail(field, "expected " + std::string(spec.what) + " (" + std::string(spec.range) + "), got " +
                     std::to_string(v));
   }
 
-  void vector(const Vec3& v, const RealSpec& spec, const std::string& field) const {
+  void vector(const Vec3& v, const RealSpec& spec, const Field& field) const {
     for (int k = 0; k < 3; ++k)
-      real(v[k], spec, field + "[" + std::to_string(k) + "]");
+      real(v[k], spec, Field(field, std::size_t(k)));
   }
 
-  void orientation(const Quat& q, const std::string& field) const {
+  void orientation(const Quat& q, const Field& field) const {
     for (int k = 0; k < 4; ++k)
       real(q.coeffs()[k], kQuatComponent, field);
     if (!(std::abs(q.norm() - 1) <= kQuatTolerance))
@@ -99,28 +128,28 @@ class Checker {
            "duration)");
   }
 
-  void material(const Material& m, const std::string& field) const {
-    real(m.friction, kFriction, field + ".friction");
-    real(m.restitution, kRestitution, field + ".restitution");
-    real(m.stiffness, kStiffness, field + ".stiffness");
-    real(m.damping, kDamping, field + ".damping");
+  void material(const Material& m, const Field& field) const {
+    real(m.friction, kFriction, Field(field, ".friction"));
+    real(m.restitution, kRestitution, Field(field, ".restitution"));
+    real(m.stiffness, kStiffness, Field(field, ".stiffness"));
+    real(m.damping, kDamping, Field(field, ".damping"));
   }
 
-  void shape(const Shape& s, const std::string& field) const {
+  void shape(const Shape& s, const Field& field) const {
     switch (s.type) {
       case ShapeType::sphere:
-        real(s.radius, kSize, field + ".radius");
+        real(s.radius, kSize, Field(field, ".radius"));
         return;
       case ShapeType::box:
-        vector(s.half_extents, kSize, field + ".half_extents");
+        vector(s.half_extents, kSize, Field(field, ".half_extents"));
         return;
       case ShapeType::capsule:
-        real(s.radius, kSize, field + ".radius");
-        real(s.half_length, kHalfLength, field + ".half_length");
+        real(s.radius, kSize, Field(field, ".radius"));
+        real(s.half_length, kHalfLength, Field(field, ".half_length"));
         return;
       case ShapeType::cylinder:
-        real(s.radius, kSize, field + ".radius");
-        real(s.half_length, kSize, field + ".half_length");
+        real(s.radius, kSize, Field(field, ".radius"));
+        real(s.half_length, kSize, Field(field, ".half_length"));
         return;
       case ShapeType::plane:
         return;
@@ -137,79 +166,82 @@ class Checker {
           fail(field,
                "a compound shape without its parts (build it with tumble::compound_from_parts)");
         for (std::size_t i = 0; i < s.compound->parts().size(); ++i)
-          shape(s.compound->parts()[i].shape, field + ".parts[" + std::to_string(i) + "].shape");
+          shape(s.compound->parts()[i].shape, Field(Field(Field(field, ".parts"), i), ".shape"));
         return;
       case ShapeType::sdf:
         if (!s.sdf)
           fail(field, "an sdf shape without its field (build it with tumble::sdf_shape)");
         return;
     }
-    fail(field + ".type", "unknown shape type " + std::to_string(static_cast<int>(s.type)));
+    fail(Field(field, ".type"), "unknown shape type " + std::to_string(static_cast<int>(s.type)));
   }
 
-  void body(const BodyDesc& b, const std::string& field, std::size_t materials) const {
+  void body(const BodyDesc& b, const Field& field, std::size_t materials) const {
     if (b.name.size() > kMaxNameLength)
-      fail(field + ".name",
+      fail(Field(field, ".name"),
            "a name of at most 256 characters, got " + std::to_string(b.name.size()));
-    shape(b.shape, field + ".shape");
+    shape(b.shape, Field(field, ".shape"));
     if (b.train_shape) {
-      shape(*b.train_shape, field + ".train_shape");
+      shape(*b.train_shape, Field(field, ".train_shape"));
       const ShapeType t = b.train_shape->type;
       if (!b.is_static && (t == ShapeType::plane || t == ShapeType::mesh))
-        fail(field + ".train_shape",
+        fail(Field(field, ".train_shape"),
              "a moving body's training shape must be bounded and convex or a compound, not a " +
                  std::string(shape_type_name(t)));
     }
-    vector(b.position, kCoordinate, field + ".position");
-    orientation(b.orientation, field + ".orientation");
-    vector(b.velocity, kVelocity, field + ".velocity");
-    vector(b.angular_velocity, kAngularVelocity, field + ".angular_velocity");
+    vector(b.position, kCoordinate, Field(field, ".position"));
+    orientation(b.orientation, Field(field, ".orientation"));
+    vector(b.velocity, kVelocity, Field(field, ".velocity"));
+    vector(b.angular_velocity, kAngularVelocity, Field(field, ".angular_velocity"));
     if (b.material < 0 || std::size_t(b.material) >= std::max<std::size_t>(materials, 1))
-      fail(field + ".material", "expected an index into the scene's " + std::to_string(materials) +
-                                    " materials, got " + std::to_string(b.material));
+      fail(Field(field, ".material"), "expected an index into the scene's " +
+                                          std::to_string(materials) + " materials, got " +
+                                          std::to_string(b.material));
     if (b.is_static && b.kinematic)
-      fail(field + ".kinematic", "a body is static or kinematic, not both");
+      fail(Field(field, ".kinematic"), "a body is static or kinematic, not both");
     if (b.is_static && !(b.velocity.isZero(0) && b.angular_velocity.isZero(0)))
-      fail(field + ".velocity",
+      fail(Field(field, ".velocity"),
            "a static body never moves, so its velocities must be zero (make "
            "it kinematic to move it)");
     const bool unbounded = b.shape.type == ShapeType::plane || b.shape.type == ShapeType::mesh;
     if (unbounded && !b.is_static)
-      fail(field + ".static", std::string("a ") +
-                                  (b.shape.type == ShapeType::plane ? "plane" : "mesh") +
-                                  " can only be static; set is_static");
+      fail(Field(field, ".static"), std::string("a ") +
+                                        (b.shape.type == ShapeType::plane ? "plane" : "mesh") +
+                                        " can only be static; set is_static");
     if (b.shape.type == ShapeType::sdf && b.shape.sdf && b.shape.sdf->changes_with_time() &&
         !b.is_static && !b.kinematic)
-      fail(field + ".shape",
+      fail(Field(field, ".shape"),
            "a field that changes with time (a morph) is an obstacle: its body must be static or "
            "kinematic");
     if (b.is_static || b.kinematic)
       return;
-    real(b.mass, kMass, field + ".mass");
+    real(b.mass, kMass, Field(field, ".mass"));
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c)
         real(b.inertia(r, c), RealSpec{"a finite moment in kg m^2", "", -kMaxMoment, kMaxMoment},
-             field + ".inertia");
+             Field(field, ".inertia"));
     if (!((b.inertia - b.inertia.transpose()).cwiseAbs().maxCoeff() <=
           1e-9 * b.inertia.cwiseAbs().maxCoeff()))
-      fail(field + ".inertia", "expected a symmetric inertia tensor");
+      fail(Field(field, ".inertia"), "expected a symmetric inertia tensor");
     const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues();
+    static const char* const kPrincipal[3] = {".inertia (principal moment 0)",
+                                              ".inertia (principal moment 1)",
+                                              ".inertia (principal moment 2)"};
     for (int k = 0; k < 3; ++k)
-      real(moments[k], kMoment, field + ".inertia (principal moment " + std::to_string(k) + ")");
+      real(moments[k], kMoment, Field(field, kPrincipal[k]));
     // A moment no mass within the shape can have lets the solver turn the body faster than its
     // contacts can hold.
     const std::string impossible =
         impossible_moment(b.mass, moments.maxCoeff(), bounding_radius(b.shape));
     if (!impossible.empty())
-      fail(field + ".inertia", impossible);
+      fail(Field(field, ".inertia"), impossible);
   }
 
-  void interval(const std::optional<Interval>& i, const RealSpec& spec,
-                const std::string& field) const {
+  void interval(const std::optional<Interval>& i, const RealSpec& spec, const Field& field) const {
     if (!i)
       return;
-    real(i->low, spec, field + "[0]");
-    real(i->high, spec, field + "[1]");
+    real(i->low, spec, Field(field, std::size_t(0)));
+    real(i->high, spec, Field(field, std::size_t(1)));
     if (!(i->low <= i->high))
       fail(field, "expected [low, high] with low <= high, got [" + number_text(i->low) + ", " +
                       number_text(i->high) + "]");
@@ -239,16 +271,17 @@ class Checker {
     world(scene_.world);
     randomization(scene_.randomize);
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
-      material(scene_.materials[m], "materials[" + std::to_string(m) + "]");
+      material(scene_.materials[m], Field(Field("materials"), m));
     if (scene_.bodies.size() > kMaxBodies)
       fail("bodies", "at most 1000000 bodies, got " + std::to_string(scene_.bodies.size()));
     std::unordered_set<std::string_view> names;
     for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
       const BodyDesc& b = scene_.bodies[i];
-      const std::string field = "bodies[" + std::to_string(i) + "]";
+      const Field bodies("bodies");
+      const Field field(bodies, i);
       body(b, field, scene_.materials.size());
       if (!b.name.empty() && !names.insert(b.name).second)
-        fail(field + ".name", "duplicate body name '" + b.name + "'");
+        fail(Field(field, ".name"), "duplicate body name '" + b.name + "'");
     }
     if (scene_.camera) {
       vector(scene_.camera->position, kCoordinate, "camera.position");
@@ -290,7 +323,7 @@ void check_scene(const Scene& scene) {
 }
 
 void check_body(const Scene& scene, const BodyDesc& body, std::size_t slot) {
-  Checker(scene).body(body, "bodies[" + std::to_string(slot) + "]", scene.materials.size());
+  Checker(scene).body(body, Field(Field("bodies"), slot), scene.materials.size());
 }
 
 }  // namespace tumble

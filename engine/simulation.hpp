@@ -49,6 +49,10 @@ class Simulation {
   // Replaces the state (reset, restore, replay). The broad phase is rebuilt from the new poses.
   void set_state(const State& state);
   void reset() { set_state(initial_state_); }
+  // Puts the world in the initial state of `model`, a model of the same bodies (static, kinematic
+  // and moving alike: a randomized draw of the same scene), keeping every buffer: the world then
+  // steps as a new Simulation(model) would, bit for bit, without being built again.
+  void reset(std::shared_ptr<const Model> model);
 
   // Moves one body to a new pose at once, keeping its velocities (a teleport, not motion). The
   // warm-start cache of every pair the body is in is dropped: last step's impulses belong to

@@ -232,6 +232,11 @@ void World::reset() {
   reports_step_ = -1;
 }
 
+void World::reset(std::shared_ptr<const Model> model) {
+  live().reset(std::move(model));
+  reports_step_ = -1;
+}
+
 void World::set_threads(int threads) {
   if (threads > 1024)
     throw Error("tumble::World::set_threads: " + std::to_string(threads) +

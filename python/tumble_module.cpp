@@ -367,7 +367,7 @@ PYBIND11_MODULE(_tumble, m) {
            py::arg("scene"))
       .def("body", &tumble::World::body, py::arg("name"))
       .def("step", py::overload_cast<int>(&tumble::World::step), py::arg("n") = 1)
-      .def("reset", &tumble::World::reset)
+      .def("reset", py::overload_cast<>(&tumble::World::reset))
       .def_property_readonly("time", &tumble::World::time)
       .def_property_readonly("step_count", &tumble::World::step_count)
       .def("state_hash", &tumble::World::state_hash)

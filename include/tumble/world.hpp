@@ -128,6 +128,10 @@ class World {
   void step(int n);
   // Back to the scene's initial state (bodies added since stay, at their descriptions' poses).
   void reset();
+  // To the initial state of another model of the same bodies, each static, kinematic or moving
+  // as here (a randomized draw of the same scene, tumble/randomization.hpp): the world then steps
+  // exactly as World(model) would, without being built again. Throws tumble::Error otherwise.
+  void reset(std::shared_ptr<const Model> model);
   // Threads a step uses (<= 0: the machine's cores); the results are the same bits on any count.
   void set_threads(int threads);
   int threads() const;

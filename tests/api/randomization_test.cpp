@@ -275,6 +275,30 @@ TEST(Randomization, EachBatchWorldIsTheLoneWorldOfItsDraw) {
   EXPECT_EQ(distinct.size(), std::size_t(worlds));  // the draws made different worlds
 }
 
+// Worlds reset together run their resets on the batch's threads; each is then the lone world of
+// its new draw. A world listed twice draws twice, in order.
+TEST(Randomization, WorldsResetOnSeveralThreadsAreTheLoneWorldsOfTheirDraws) {
+  auto scene = randomized_pile();
+  const int worlds = 6;
+  for (const int threads : {1, 2}) {
+    BatchWorld batch(scene, worlds, threads, 7);
+    batch.step(15);
+    const std::vector<int> all{0, 1, 2, 3, 4, 5};
+    batch.reset(all);
+    const std::vector<int> twice{4, 4};
+    batch.reset(twice);
+    batch.step(25);
+    for (int w = 0; w < worlds; ++w) {
+      const int draw = w == 4 ? 3 : 1;
+      EXPECT_EQ(batch.seed(w), BatchWorld::draw_seed(7, w, std::uint64_t(draw)));
+      World lone(std::make_shared<Scene>(randomized(*scene, batch.seed(w))));
+      lone.step(25);
+      EXPECT_EQ(lone.state_hash(), batch.state_hash(w))
+          << "world " << w << ", " << threads << " threads";
+    }
+  }
+}
+
 TEST(Randomization, ResetDrawsAgainAndAGivenSeedReplays) {
   auto scene = randomized_pile();
   BatchWorld batch(scene, 3, 1, 5);
