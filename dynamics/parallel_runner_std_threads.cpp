@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "dynamics/parallel_runner.hpp"
@@ -38,13 +40,22 @@ struct ParallelRunner::Arena {
       t.join();
   }
 
+  // A chunk that throws stops the loop's other chunks from starting; the first exception is
+  // thrown again on the calling thread, as oneTBB does.
   void run_chunks() {
     in_chunk = true;
     for (;;) {
       const std::int32_t begin = next.fetch_add(grain);
       if (begin >= count)
         break;
-      body(context, begin, std::min(count, begin + grain));
+      try {
+        body(context, begin, std::min(count, begin + grain));
+      } catch (...) {
+        next.store(count);
+        const std::lock_guard lock(mutex);
+        if (!error)
+          error = std::current_exception();
+      }
     }
     in_chunk = false;
   }
@@ -74,6 +85,7 @@ struct ParallelRunner::Arena {
       count = n;
       grain = chunk;
       next.store(0);
+      error = nullptr;
       working = static_cast<int>(threads.size());
       ++generation;
     }
@@ -82,6 +94,11 @@ struct ParallelRunner::Arena {
     // Every worker passes through each loop once, so the next loop finds them all waiting.
     std::unique_lock lock(mutex);
     finished.wait(lock, [&] { return working == 0; });
+    if (error) {
+      std::exception_ptr thrown = std::exchange(error, nullptr);
+      lock.unlock();
+      std::rethrow_exception(thrown);
+    }
   }
 
   std::mutex mutex;
@@ -94,6 +111,7 @@ struct ParallelRunner::Arena {
   void* context = nullptr;
   std::int32_t count = 0, grain = 1;
   std::atomic<std::int32_t> next{0};
+  std::exception_ptr error;  // the first a chunk threw, for the calling thread
 };
 
 ParallelRunner::ParallelRunner(int threads) {
