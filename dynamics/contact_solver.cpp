@@ -60,6 +60,7 @@ Real sliding_curvature(const Manifold& manifold, const Vec3& relative_velocity) 
 // Work per chunk: enough that a chunk outweighs handing it to a thread (about a microsecond).
 constexpr std::int32_t kRecordsPerChunk = 64;
 constexpr std::int32_t kBundlesPerChunk = 16;
+constexpr std::int32_t kSlotsPerChunk = 512;
 
 }  // namespace
 
@@ -398,31 +399,47 @@ void ContactSolver::warm_start_from(const CachedManifold& cached, Real match_dis
   }
 }
 
+// The three loops over a group's slots below run every substep; each slot is its own (a body
+// has one slot per group), so they split over the threads.
 void ContactSolver::load_velocities(int group, std::span<const BodyState> bodies) {
   const Group& g = groups_[std::size_t(group)];
-  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
-    const BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
-    Velocity& v = velocities_[std::size_t(s)];
-    for (int c = 0; c < 3; ++c) {
-      v.v[c] = b.velocity[c];
-      v.w[c] = b.angular_velocity[c];
+  for_chunks(g.slot_end - g.slot_begin, kSlotsPerChunk, [&](std::int32_t begin, std::int32_t end) {
+    for (std::int32_t s = g.slot_begin + begin; s < g.slot_begin + end; ++s) {
+      const BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
+      Velocity& v = velocities_[std::size_t(s)];
+      for (int c = 0; c < 3; ++c) {
+        v.v[c] = b.velocity[c];
+        v.w[c] = b.angular_velocity[c];
+      }
     }
-  }
+  });
 }
 
 void ContactSolver::store_velocities(int group, std::span<BodyState> bodies) const {
   const Group& g = groups_[std::size_t(group)];
-  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
-    BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
-    const Velocity& v = velocities_[std::size_t(s)];
-    b.velocity = Vec3(v.v[0], v.v[1], v.v[2]);
-    b.angular_velocity = Vec3(v.w[0], v.w[1], v.w[2]);
-  }
+  for_chunks(g.slot_end - g.slot_begin, kSlotsPerChunk, [&](std::int32_t begin, std::int32_t end) {
+    for (std::int32_t s = g.slot_begin + begin; s < g.slot_begin + end; ++s) {
+      BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
+      const Velocity& v = velocities_[std::size_t(s)];
+      b.velocity = Vec3(v.v[0], v.v[1], v.v[2]);
+      b.angular_velocity = Vec3(v.w[0], v.w[1], v.w[2]);
+    }
+  });
 }
 
 void ContactSolver::update_separations(int group, std::span<const BodyState> bodies) {
   const Group& g = groups_[std::size_t(group)];
-  for (std::int32_t s = g.slot_begin; s < g.slot_end; ++s) {
+  for_chunks(g.slot_end - g.slot_begin, kSlotsPerChunk, [&](std::int32_t begin, std::int32_t end) {
+    update_motions(g.slot_begin + begin, g.slot_begin + end, bodies);
+  });
+  // The bundles' separations follow in the next pass over them (solve), or on their own when
+  // something else reads them first (apply_pending_separations).
+  pending_separations_group_ = group;
+}
+
+void ContactSolver::update_motions(std::int32_t begin, std::int32_t end,
+                                   std::span<const BodyState> bodies) {
+  for (std::int32_t s = begin; s < end; ++s) {
     const std::size_t body = std::size_t(body_of_slot_[std::size_t(s)]);
     const BodyState& b = bodies[body];
     Motion& m = motions_[std::size_t(s)];
@@ -445,9 +462,6 @@ void ContactSolver::update_separations(int group, std::span<const BodyState> bod
     r[7] = 2 * (y * z + w * x);
     r[8] = -2 * (x * x + y * y);
   }
-  // The bundles' separations follow in the next pass over them (solve), or on their own when
-  // something else reads them first (apply_pending_separations).
-  pending_separations_group_ = group;
 }
 
 void ContactSolver::apply_pending_separations(int group) {

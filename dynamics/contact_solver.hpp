@@ -253,6 +253,8 @@ class ContactSolver {
                      std::vector<CachedManifold>& cache) const;
 
   void apply_pending_separations(int group);
+  // update_separations' work for slots [begin, end): each body's motion since the step began.
+  void update_motions(std::int32_t begin, std::int32_t end, std::span<const BodyState> bodies);
 
   const detail::WideKernels* kernels_;
   const ParallelRunner* runner_ = nullptr;

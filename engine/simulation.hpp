@@ -210,6 +210,7 @@ class Simulation {
   std::vector<std::int32_t> other_candidates_;  // the candidates collide() answers one by one
   std::vector<Manifold> candidate_manifolds_;   // per candidate pair
   std::vector<std::int32_t> candidate_kept_;    // per candidate: its recycled entry, or -1
+  std::vector<std::uint8_t> candidate_route_;   // per candidate: how it is answered (kRoute...)
   std::vector<RecyclableManifold> next_manifolds_;
   std::vector<std::uint8_t> candidate_axis_;  // per candidate: the axis that separated it
   std::vector<std::uint8_t> box_axes_found_;  // per box query: the axis that separated it
