@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -149,6 +150,8 @@ class MpiWorkPool final : public WorkPool {
       }
       try {
         out = message(result, assignment, task(static_cast<std::size_t>(assignment)));
+      } catch (const std::bad_alloc&) {
+        out = message(failure, assignment, "out of memory");
       } catch (const std::exception& e) {
         out = message(failure, assignment, e.what());
       }

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -31,6 +32,9 @@
 
 namespace tumble::app {
 namespace {
+
+// The check phase's problem when it ran out of memory: reported as such, with exit code 4.
+constexpr const char* kOutOfMemory = "out of memory";
 
 using nlohmann::json;
 
@@ -473,12 +477,14 @@ int sweep_command(const SweepOptions& options) {
       // Longest first, ties in run order: the hand-out order is the same on every start.
       std::stable_sort(order.begin(), order.end(),
                        [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+    } catch (const std::bad_alloc&) {
+      problem = kOutOfMemory;
     } catch (const std::exception& e) {
       problem = e.what();
     }
     if (!pool->agree(problem).empty()) {
       std::cerr << "tumble sweep: " << problem << "\n";
-      return 1;
+      return problem == kOutOfMemory ? 4 : 1;
     }
     if (!options.quiet) {
       std::cout << "tumble sweep: checked in " << fixed_digits(seconds_since(started), 3) << " s; "

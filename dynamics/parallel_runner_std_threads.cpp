@@ -2,8 +2,9 @@
 // oneTBB library is not instrumented, so ThreadSanitizer cannot see the hand-over of a task from
 // one thread to another inside it and reports the loops' every read as a race. Here every
 // hand-over is a mutex, a condition variable or an atomic it sees, so what it reports is a race in
-// tumble's own loops. The chunks are the same as oneTBB's simple partitioner makes (at most
-// `grain` each, covering [0, count)), so the results are too.
+// tumble's own loops. The chunks are the ones oneTBB's simple partitioner makes (a range halved,
+// [begin, middle) and [middle, end), until no piece is longer than `grain`), taken by the threads
+// in any order. One difference: a loop split from inside a chunk runs there in one piece.
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
@@ -27,10 +28,17 @@ thread_local bool in_chunk = false;
 
 struct ParallelRunner::Arena {
   explicit Arena(int workers) {
-    for (int i = 0; i < workers; ++i)
-      threads.emplace_back([this] { serve(); });
+    try {
+      for (int i = 0; i < workers; ++i)
+        threads.emplace_back([this] { serve(); });
+    } catch (...) {
+      stop_workers();  // those started already
+      throw;
+    }
   }
-  ~Arena() {
+  ~Arena() { stop_workers(); }
+
+  void stop_workers() {
     {
       const std::lock_guard lock(mutex);
       stop = true;
@@ -38,18 +46,31 @@ struct ParallelRunner::Arena {
     wake.notify_all();
     for (std::thread& t : threads)
       t.join();
+    threads.clear();
+  }
+
+  // The simple partitioner's pieces of [begin, end), in order.
+  void add_chunks(std::int32_t begin, std::int32_t end, std::int32_t grain) {
+    if (end - begin > grain) {
+      const std::int32_t middle = begin + (end - begin) / 2;
+      add_chunks(begin, middle, grain);
+      add_chunks(middle, end, grain);
+    } else {
+      chunks.emplace_back(begin, end);
+    }
   }
 
   // A chunk that throws stops the loop's other chunks from starting; the first exception is
   // thrown again on the calling thread, as oneTBB does.
   void run_chunks() {
     in_chunk = true;
+    const auto count = static_cast<std::int32_t>(chunks.size());
     for (;;) {
-      const std::int32_t begin = next.fetch_add(grain);
-      if (begin >= count)
+      const std::int32_t k = next.fetch_add(1);
+      if (k >= count)
         break;
       try {
-        body(context, begin, std::min(count, begin + grain));
+        body(context, chunks[std::size_t(k)].first, chunks[std::size_t(k)].second);
       } catch (...) {
         next.store(count);
         const std::lock_guard lock(mutex);
@@ -82,8 +103,8 @@ struct ParallelRunner::Arena {
       const std::lock_guard lock(mutex);
       body = work;
       context = work_context;
-      count = n;
-      grain = chunk;
+      chunks.clear();
+      add_chunks(0, n, std::max<std::int32_t>(1, chunk));
       next.store(0);
       error = nullptr;
       working = static_cast<int>(threads.size());
@@ -109,8 +130,8 @@ struct ParallelRunner::Arena {
   bool stop = false;
   void (*body)(void*, std::int32_t, std::int32_t) = nullptr;
   void* context = nullptr;
-  std::int32_t count = 0, grain = 1;
-  std::atomic<std::int32_t> next{0};
+  std::vector<std::pair<std::int32_t, std::int32_t>> chunks;  // this loop's, [begin, end)
+  std::atomic<std::int32_t> next{0};                          // the next chunk to take
   std::exception_ptr error;  // the first a chunk threw, for the calling thread
 };
 
@@ -131,8 +152,7 @@ void ParallelRunner::split(std::int32_t count, std::int32_t grain,
                            void (*body)(void*, std::int32_t, std::int32_t), void* context) const {
   ++split_loops_;
   if (in_chunk || arena_->threads.empty()) {
-    for (std::int32_t begin = 0; begin < count; begin += grain)
-      body(context, begin, std::min(count, begin + grain));
+    body(context, 0, count);
     return;
   }
   arena_->split(count, grain, body, context);

@@ -167,16 +167,23 @@ struct BatchWorld::Impl {
     return world;
   }
 
-  // World w reset to its draw of `seed` (the drawn scene compiled, the world's buffers kept), or
-  // to the model's initial state.
-  void renew(int w, std::uint64_t seed) {
-    seeds[std::size_t(w)] = seed;
+  // World w reset to its draw of `seed` (the drawn scene compiled, the world's buffers kept; a
+  // new world where its bodies were changed since), or to the model's initial state. A draw that
+  // fails its checks throws before the world, its seed or its draw count change.
+  void renew(int w, std::uint64_t seed, std::uint64_t draw) {
     World& world = worlds[std::size_t(w)];
-    if (randomizing)
-      world.reset(
-          compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed))));
-    else
+    if (randomizing) {
+      std::shared_ptr<const Model> drawn =
+          compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed)));
+      if (world.simulation().can_reset_to(*drawn))
+        world.reset(std::move(drawn));
+      else
+        world = make_world(seed);
+    } else {
       world.reset();
+    }
+    seeds[std::size_t(w)] = seed;
+    draws[std::size_t(w)] = draw;
   }
 
   template <class Work>
@@ -308,8 +315,8 @@ void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::
   Impl& m = *impl_;
   const auto renew = [&](std::size_t i) {
     const int w = worlds[i];
-    m.renew(w, seeds.empty() ? draw_seed(m.base_seed, m.first_world + w, m.draws[std::size_t(w)])
-                             : seeds[i]);
+    const std::uint64_t draw = m.draws[std::size_t(w)] + 1;
+    m.renew(w, seeds.empty() ? draw_seed(m.base_seed, m.first_world + w, draw) : seeds[i], draw);
     m.observe(w);
     const std::size_t first = std::size_t(w) * std::size_t(m.bodies);
     std::fill_n(m.contact_forces.begin() + std::ptrdiff_t(3 * first), 3 * m.bodies, Real(0));
@@ -317,20 +324,21 @@ void BatchWorld::reset_worlds(std::span<const int> worlds, std::span<const std::
     std::fill_n(m.target_set.begin() + std::ptrdiff_t(first), m.bodies, 0);
   };
   // A world listed twice is reset twice, in order (its second draw is the one that stays).
-  // Otherwise each world's reset is its own, and they run on the batch's threads.
-  m.listed.assign(m.worlds.size(), 0);
+  // Otherwise each world's reset is its own, and they run on the batch's threads (if one throws,
+  // each world is either reset with its new draw or left as it was).
   bool repeated = false;
-  for (const int w : worlds)
-    repeated = repeated || m.listed[std::size_t(w)]++ != 0;
+  if (m.threads > 1 && worlds.size() > 1) {
+    m.listed.resize(m.worlds.size(), 0);
+    for (const int w : worlds)
+      repeated = repeated || m.listed[std::size_t(w)]++ != 0;
+    for (const int w : worlds)
+      m.listed[std::size_t(w)] = 0;
+  }
   if (repeated || m.threads <= 1 || worlds.size() < 2) {
-    for (std::size_t i = 0; i < worlds.size(); ++i) {
-      ++m.draws[std::size_t(worlds[i])];
+    for (std::size_t i = 0; i < worlds.size(); ++i)
       renew(i);
-    }
     return;
   }
-  for (const int w : worlds)
-    ++m.draws[std::size_t(w)];
   m.runner->run([&] {
     m.runner->for_chunks(static_cast<std::int32_t>(worlds.size()), 1,
                          [&](std::int32_t begin, std::int32_t end) {

@@ -147,38 +147,46 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
     continuous_ = std::move(ccd);
 }
 
+bool Simulation::can_reset_to(const Model& model) const {
+  const Scene& next = model.scene();
+  if (next.bodies.size() != scene_->bodies.size())
+    return false;
+  for (std::size_t i = 0; i < next.bodies.size(); ++i) {
+    if (next.bodies[i].is_static != scene_->bodies[i].is_static ||
+        next.bodies[i].kinematic != scene_->bodies[i].kinematic ||
+        model.is_removed(i) != model_->is_removed(i))
+      return false;
+  }
+  return true;
+}
+
 void Simulation::reset(std::shared_ptr<const Model> model) {
   if (!model)
-    throw Error("Simulation::reset: the model is null");
-  const Scene& next = model->scene();
-  bool same_bodies = next.bodies.size() == scene_->bodies.size();
-  for (std::size_t i = 0; same_bodies && i < next.bodies.size(); ++i) {
-    same_bodies = next.bodies[i].is_static == scene_->bodies[i].is_static &&
-                  next.bodies[i].kinematic == scene_->bodies[i].kinematic &&
-                  model->is_removed(i) == model_->is_removed(i);
-  }
-  if (!same_bodies)
+    throw Error("tumble::World::reset: the model is null");
+  if (!can_reset_to(*model))
     throw Error(
-        "Simulation::reset: the model's bodies are not this world's (the same count, "
+        "tumble::World::reset: the model's bodies are not this world's (the same count, "
         "each static, kinematic or moving as before)");
-  // The broad phase keeps its structure only where the static bodies kept their boxes: a drawn
-  // size or pose moves them, and so does another structure.
+  // The broad phase keeps its structure only where the static bodies keep their boxes (where it
+  // holds them now, at their current poses): a drawn size or pose moves them, and so does
+  // another structure.
+  const Scene& next = model->scene();
   const BroadPhaseType type = choose_broad_phase(next.world.broadphase, next);
   bool statics_kept = type == broad_phase_type_;
   for (std::size_t i = 0; statics_kept && i < next.bodies.size(); ++i) {
     if (!next.bodies[i].is_static)
       continue;
-    const BodyDesc& a = scene_->bodies[i];
+    const Aabb before = world_aabb(scene_->bodies[i].shape, pose_of(state_.bodies[i]));
     const BodyDesc& b = next.bodies[i];
-    const Aabb before = world_aabb(a.shape, {a.position, a.orientation});
     const Aabb after = world_aabb(b.shape, {b.position, b.orientation});
     statics_kept = before.min == after.min && before.max == after.max;
   }
-  broad_phase_type_ = type;
-  if (!statics_kept)
-    broad_phase_.reset();
   adopt(std::move(model));
+  broad_phase_type_ = type;
   set_state(initial_state_);
+  // A new structure is built whole before it replaces the old one.
+  if (!statics_kept)
+    rebuild_broad_phase();
 }
 
 void Simulation::choose_penalty_substeps() {

@@ -53,6 +53,8 @@ class Simulation {
   // and moving alike: a randomized draw of the same scene), keeping every buffer: the world then
   // steps as a new Simulation(model) would, bit for bit, without being built again.
   void reset(std::shared_ptr<const Model> model);
+  // Whether reset(model) takes `model`: the same bodies, each static, kinematic or moving as here.
+  bool can_reset_to(const Model& model) const;
 
   // Moves one body to a new pose at once, keeping its velocities (a teleport, not motion). The
   // warm-start cache of every pair the body is in is dropped: last step's impulses belong to

@@ -70,7 +70,10 @@ class BatchWorld {
   void step(int n = 1);
   // Back to the initial state (with an empty contact cache), for the worlds listed or all.
   // Throws Error for an index out of range. A randomized scene draws anew: each listed world's
-  // next draw, or the draw of the seed given for it (`seeds` as long as `worlds`).
+  // next draw, or the draw of the seed given for it (`seeds` as long as `worlds`). The worlds of
+  // one call are reset on the batch's threads (so a scene's mixing rules, evaluated as each draw
+  // is compiled, may be called from several threads at once); a draw that fails its checks
+  // throws, leaving that world as it was.
   void reset(std::span<const int> worlds);
   void reset(std::span<const int> worlds, std::span<const std::uint64_t> seeds);
   void reset();

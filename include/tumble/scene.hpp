@@ -80,7 +80,9 @@ struct Scene {
   std::vector<BodyDesc> bodies;
   std::optional<Camera> camera;
   // The rules that combine two materials into a pair's friction and restitution; empty: the
-  // defaults. Evaluated once per pair of materials when a world is made, never in the step.
+  // defaults. Evaluated once per pair of materials when a world is made, never in the step; a
+  // batch compiles its randomized draws on several threads, so a rule must be safe to call from
+  // several threads at once (a pure function of its arguments is).
   MixingRule friction_mixing;
   MixingRule restitution_mixing;
   // What each world of a batch draws at its reset (tumble/randomization.hpp); a lone World

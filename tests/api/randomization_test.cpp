@@ -299,6 +299,54 @@ TEST(Randomization, WorldsResetOnSeveralThreadsAreTheLoneWorldsOfTheirDraws) {
   }
 }
 
+// A draw can leave the ranges (a mass near the limit scaled past it): the reset throws, and the
+// world of that draw is left as it was, its seed and state unchanged; a world reset in the same
+// call on another thread is either reset with its draw or left, never half done.
+TEST(Randomization, AResetWhoseDrawFailsItsChecksLeavesThatWorldAsItWas) {
+  auto scene = randomized_pile();
+  const Real heavy = 0.8e15;  // kg; the limit is 1e15, reached at a scale of 1.25
+  scene->bodies[1].inertia *= heavy / scene->bodies[1].mass;
+  scene->bodies[1].mass = heavy;
+  const auto passes = [&](std::uint64_t seed) {
+    try {
+      randomized(*scene, seed);
+      return true;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  std::uint64_t failing = 0, passing = 0;
+  while (passes(failing))
+    ++failing;
+  while (!passes(passing))
+    ++passing;
+  for (const int threads : {1, 2}) {
+    std::uint64_t base = 0;
+    while (!passes(BatchWorld::draw_seed(base, 0, 0)) || !passes(BatchWorld::draw_seed(base, 1, 0)))
+      ++base;
+    BatchWorld batch(scene, 2, threads, base);
+    batch.step(5);
+    const std::uint64_t seed0 = batch.seed(0), hash0 = batch.state_hash(0);
+    const std::uint64_t seed1 = batch.seed(1), hash1 = batch.state_hash(1);
+    const std::vector<int> both{0, 1};
+    const std::vector<std::uint64_t> seeds{failing, passing};
+    EXPECT_ANY_THROW(batch.reset(both, seeds));
+    EXPECT_EQ(batch.seed(0), seed0);
+    EXPECT_EQ(batch.state_hash(0), hash0);
+    if (batch.seed(1) == passing) {
+      EXPECT_EQ(batch.state_hash(1),
+                World(std::make_shared<Scene>(randomized(*scene, passing))).state_hash());
+    } else {
+      EXPECT_EQ(batch.seed(1), seed1);
+      EXPECT_EQ(batch.state_hash(1), hash1);
+    }
+    // Its next reset draws as if the failed one had not been asked for.
+    const std::vector<int> first{0};
+    batch.reset(first);
+    EXPECT_EQ(batch.seed(0), BatchWorld::draw_seed(base, 0, 1));
+  }
+}
+
 TEST(Randomization, ResetDrawsAgainAndAGivenSeedReplays) {
   auto scene = randomized_pile();
   BatchWorld batch(scene, 3, 1, 5);
