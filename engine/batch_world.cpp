@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dynamics/parallel_runner.hpp"
+#include "engine/checked_draw.hpp"
 #include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
@@ -160,9 +161,7 @@ struct BatchWorld::Impl {
 
   // The world of the scene's draw for `seed` (randomizing), or of the model itself, on one thread.
   World make_world(std::uint64_t seed) const {
-    World world = randomizing ? World(compile(std::make_shared<const Scene>(
-                                    randomized(model->described_scene(), seed))))
-                              : World(model);
+    World world = randomizing ? World(compile_draw(model->described_scene(), seed)) : World(model);
     world.set_threads(1);
     return world;
   }
@@ -173,8 +172,7 @@ struct BatchWorld::Impl {
   void renew(int w, std::uint64_t seed, std::uint64_t draw) {
     World& world = worlds[std::size_t(w)];
     if (randomizing) {
-      std::shared_ptr<const Model> drawn =
-          compile(std::make_shared<const Scene>(randomized(model->described_scene(), seed)));
+      std::shared_ptr<const Model> drawn = compile_draw(model->described_scene(), seed);
       if (world.simulation().can_reset_to(*drawn))
         world.reset(std::move(drawn));
       else

@@ -6,12 +6,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape.hpp"
+#include "engine/checked_draw.hpp"
+#include "engine/model.hpp"
 #include "engine/random_stream.hpp"
 #include "tumble/model.hpp"
 #include "tumble/scene.hpp"
@@ -101,6 +104,14 @@ Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset, bool
 
 Scene randomized(const Scene& scene, std::uint64_t seed) {
   check_scene(scene);
+  return randomized_from_checked(scene, seed);
+}
+
+std::shared_ptr<const Model> compile_draw(const Scene& checked, std::uint64_t seed) {
+  return Model::build(std::make_shared<const Scene>(randomized_from_checked(checked, seed)));
+}
+
+Scene randomized_from_checked(const Scene& scene, std::uint64_t seed) {
   const Randomization& r = scene.randomize;
   Scene out = scene;
   out.randomize = Randomization{};
