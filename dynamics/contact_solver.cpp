@@ -181,7 +181,9 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
       order[std::size_t(j)] = order[std::size_t(j - 1)];
     order[std::size_t(j)] = k;
   }
-  std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b;
+  // r x n and I^-1 (r x n) of each point, for the normal rows' matrix only (the passes compute
+  // the angular response from the bundle's inverse inertias): locals, not record fields.
+  std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b, in_a, in_b;
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& cp = pc.manifold.points[std::size_t(order[std::size_t(k)])];
     PointRecord& p = m.points[std::size_t(k)];
@@ -193,8 +195,8 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     rn_b[std::size_t(k)] = r_b.cross(m.normal);
     p.r_a = r_a;
     p.r_b = r_b;
-    p.in_a = ia * rn_a[std::size_t(k)];
-    p.in_b = ib * rn_b[std::size_t(k)];
+    in_a[std::size_t(k)] = ia * rn_a[std::size_t(k)];
+    in_b[std::size_t(k)] = ib * rn_b[std::size_t(k)];
     p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent1);
     p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent2);
     p.base_separation = -cp.depth;
@@ -207,8 +209,8 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   for (int i = 0; i < m.count; ++i) {
     for (int j = 0; j <= i; ++j) {
       m.delassus[std::size_t(i * (i + 1) / 2 + j)] =
-          inv_mass_sum + rn_a[std::size_t(i)].dot(m.points[std::size_t(j)].in_a) +
-          rn_b[std::size_t(i)].dot(m.points[std::size_t(j)].in_b);
+          inv_mass_sum + rn_a[std::size_t(i)].dot(in_a[std::size_t(j)]) +
+          rn_b[std::size_t(i)].dot(in_b[std::size_t(j)]);
     }
   }
   // The load: what the warm start says the points carried, and at least the weight of the

@@ -164,8 +164,6 @@ class ContactSolver {
   struct PointRecord {
     Vec3 r_a = Vec3::Zero();  // lever arms at the start of the step (world)
     Vec3 r_b = Vec3::Zero();
-    Vec3 in_a = Vec3::Zero();  // I^-1 (r x n) on A and B, for the normal rows' matrix
-    Vec3 in_b = Vec3::Zero();
     Real tangent_mass1 = 0, tangent_mass2 = 0;
     Real base_separation = 0;  // -depth: both anchors start at the contact point
     // Accumulated impulses: over the step after build(), per substep once packed.
