@@ -24,7 +24,7 @@ packages=(
   openmpi-bin libopenmpi-dev python3-mpi4py
   # OpenVDB level sets as SDF shapes (collision/sdf/vdb_level_set.hpp; optional in the build)
   libopenvdb-dev
-  # fuzzing (scripts/fuzz.sh, tests/fuzz): clang with libFuzzer and its sanitizer runtimes; xxd
+  # fuzzing and ThreadSanitizer (scripts/fuzz.sh, tests/fuzz, scripts/tsan.sh): clang with libFuzzer and its sanitizer runtimes; xxd
   # for the seeds kept in hex
   clang-14 libclang-rt-14-dev xxd
   # the PyTorch example around tumble.distance (examples/python/torch_distance.py)
