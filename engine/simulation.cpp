@@ -183,10 +183,7 @@ void Simulation::reset(std::shared_ptr<const Model> model) {
   }
   adopt(std::move(model));
   broad_phase_type_ = type;
-  set_state(initial_state_);
-  // A new structure is built whole before it replaces the old one.
-  if (!statics_kept)
-    rebuild_broad_phase();
+  set_state(initial_state_, statics_kept);
 }
 
 void Simulation::choose_penalty_substeps() {
@@ -212,13 +209,18 @@ void Simulation::set_threads(int threads) {
 }
 
 void Simulation::set_state(const State& state) {
+  set_state(state, true);
+}
+
+void Simulation::set_state(const State& state, bool may_keep_broad_phase) {
   if (state.bodies.size() != scene_->bodies.size())
     throw Error("Simulation::set_state: the state has " + std::to_string(state.bodies.size()) +
                 " bodies, the world " + std::to_string(scene_->bodies.size()));
   // The broad phase keeps its structure when only moving bodies change pose (a reset, a replay):
   // their boxes are updated in place, which is what makes a reset cheap. A static body that
   // moved, or a first state, rebuilds it.
-  bool keep_broad_phase = broad_phase_ != nullptr && state_.bodies.size() == state.bodies.size();
+  bool keep_broad_phase = may_keep_broad_phase && broad_phase_ != nullptr &&
+                          state_.bodies.size() == state.bodies.size();
   for (std::size_t i = 0; keep_broad_phase && i < state.bodies.size(); ++i) {
     if (scene_->bodies[i].is_static &&
         (state.bodies[i].position != state_.bodies[i].position ||

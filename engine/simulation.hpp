@@ -157,6 +157,9 @@ class Simulation {
 
   void step_on_runner();
   void adopt(std::shared_ptr<const Model> model);
+  // set_state, keeping the broad phase's structure only if `may_keep_broad_phase` (reset(model):
+  // the static bodies kept their boxes) and no static body moved.
+  void set_state(const State& state, bool may_keep_broad_phase);
   void resize_body_arrays();
   void choose_penalty_substeps();
   void drop_pairs_of(int body);

@@ -499,6 +499,17 @@ TEST(Cli, AKilledRunsTemporaryFileGoesWithTheNextRunIntoItsFolder) {
   EXPECT_EQ(read_file(dir / "trajectory.csv"), before);
 }
 
+// A run whose write failed with `error` (an errno) named the file and the reason, kept the
+// previous run's trajectory and summary under their names and bytes, and left no temporary file.
+void expect_previous_outputs_kept(const Result& r, int error, const fs::path& dir,
+                                  const std::string& trajectory, const std::string& summary) {
+  EXPECT_NE(r.output.find("trajectory.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::strerror(error)), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
+  EXPECT_EQ(read_file(dir / "summary.json"), summary);
+  EXPECT_EQ(temporary_files_in(dir), 0);
+}
+
 // A disk that fills while a run writes: the process's file size limit (RLIMIT_FSIZE, with
 // SIGXFSZ ignored) makes a write fail part way with EFBIG, as a full disk fails it with ENOSPC,
 // without the privileges a small tmpfs needs. The run must say so and fail, keep the files of the
@@ -518,11 +529,7 @@ TEST(Cli, AWriteThatFailsPartWayLeavesThePreviousOutputs) {
   const Result r = run_shell(command);
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_LT(r.exit_code, 128) << r.output;  // an error exit, not a signal
-  EXPECT_NE(r.output.find("trajectory.csv"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(std::strerror(EFBIG)), std::string::npos) << r.output;
-  EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
-  EXPECT_EQ(read_file(dir / "summary.json"), summary);
-  EXPECT_EQ(temporary_files_in(dir), 0);
+  expect_previous_outputs_kept(r, EFBIG, dir, trajectory, summary);
 }
 
 // The same on a full disk: a 64 KiB tmpfs, where the write fails with ENOSPC. Mounting needs
@@ -544,11 +551,7 @@ TEST(Cli, AFullDiskLeavesThePreviousOutputs) {
   const Result r =
       run_cli("run " + kScenes + "free_flight.yaml -q --steps 2000 -o " + dir.string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("trajectory.csv"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(std::strerror(ENOSPC)), std::string::npos) << r.output;
-  EXPECT_EQ(read_file(dir / "trajectory.csv"), trajectory);
-  EXPECT_EQ(read_file(dir / "summary.json"), summary);
-  EXPECT_EQ(temporary_files_in(dir), 0);
+  expect_previous_outputs_kept(r, ENOSPC, dir, trajectory, summary);
 }
 
 // Memory the scene needs past what the process may have: `tumble: out of memory` and exit code 4,
