@@ -1,6 +1,5 @@
 #include "engine/simulation.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -44,23 +43,23 @@ void erase_pairs_of(std::vector<Entry>& list, int body) {
 }
 
 // Times one stage of the step, or one phase of the solve stage (which counts toward the stage
-// too). A stage is reported as run once a timer has been made for it, unless the timer is told
-// that the stage had nothing to do.
+// too), in ticks of the step's clock (engine/step_ticks.hpp). A stage is reported as run once a
+// timer has been made for it, unless the timer is told that the stage had nothing to do.
 class StageTimer {
  public:
-  StageTimer(StepStatistics& stats, Stage stage)
-      : stats_(stats), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {
+  StageTimer(StepStatistics& stats, StepTicks& ticks, Stage stage)
+      : stats_(stats), ticks_(ticks), stage_(static_cast<int>(stage)), start_(read_ticks()) {
     stats_.ran[std::size_t(stage_)] = true;
   }
-  StageTimer(StepStatistics& stats, SolvePhase phase) : StageTimer(stats, Stage::solve) {
+  StageTimer(StepStatistics& stats, StepTicks& ticks, SolvePhase phase)
+      : StageTimer(stats, ticks, Stage::solve) {
     phase_ = static_cast<int>(phase);
   }
   ~StageTimer() {
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    stats_.seconds[std::size_t(stage_)] += seconds;
+    const std::uint64_t elapsed = read_ticks() - start_;
+    ticks_.stage[std::size_t(stage_)] += elapsed;
     if (phase_ >= 0)
-      stats_.solve_phase_seconds[std::size_t(phase_)] += seconds;
+      ticks_.phase[std::size_t(phase_)] += elapsed;
   }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
@@ -69,9 +68,10 @@ class StageTimer {
 
  private:
   StepStatistics& stats_;
+  StepTicks& ticks_;
   int stage_;
   int phase_ = -1;
-  std::chrono::steady_clock::time_point start_;
+  std::uint64_t start_;
 };
 
 // Work per chunk on the runner's threads: enough that a chunk outweighs handing it over.
@@ -503,6 +503,7 @@ void Simulation::step() {
 
 void Simulation::step_on_runner() {
   current_ = StepStatistics{};
+  ticks_.begin();
   const WorldSettings& w = scene_->world;
   start_kinematic_motion(w.dt);
   update_bounds(w.dt);
@@ -532,6 +533,7 @@ void Simulation::step_on_runner() {
   state_.step += 1;
   // Time is counted in steps, not summed, so that it does not drift by rounding.
   state_.time = static_cast<Real>(state_.step) * w.dt;
+  ticks_.finish_into(current_);
   last_step_ = current_;
 }
 
@@ -542,7 +544,7 @@ void Simulation::step_on_runner() {
 void Simulation::wake_touched_islands() {
   if (!scene_->world.sleeping)
     return;
-  StageTimer timer(current_, SolvePhase::islands_and_sleep);
+  StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
   islands_.reset(n);
   const Model& model = *model_;
@@ -593,7 +595,7 @@ void Simulation::update_sleep(Real dt) {
   const WorldSettings& w = scene_->world;
   if (!w.sleeping)
     return;
-  StageTimer timer(current_, SolvePhase::islands_and_sleep);
+  StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
   const Model& model = *model_;
   island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
@@ -624,7 +626,7 @@ void Simulation::sweep_fast_bodies() {
   if (!continuous_)
     return;
   const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
-  StageTimer timer(current_, Stage::continuous);
+  StageTimer timer(current_, ticks_, Stage::continuous);
   const ContinuousCollisionCounts counts =
       continuous_->run(*model_, shape_poses_, *broad_phase_, state_.bodies, masses_, *runner_);
   current_.swept_bodies += counts.swept_bodies;
@@ -636,7 +638,7 @@ void Simulation::sweep_fast_bodies() {
 }
 
 void Simulation::integrate_velocities(int group, Real h) {
-  StageTimer timer(current_, Stage::integrate_velocities);
+  StageTimer timer(current_, ticks_, Stage::integrate_velocities);
   VelocityIntegration in;
   in.states = state_.bodies.data();
   in.masses = masses_.data();
@@ -693,7 +695,7 @@ void Simulation::for_each_awake_chunk(int group, const Update& update) {
 // only pair it with everything it passes (thousands of speculative contacts in
 // scenes/high_speed.yaml) for nothing the sweep does not already catch.
 void Simulation::update_bounds(Real dt) {
-  StageTimer timer(current_, Stage::bounds);
+  StageTimer timer(current_, ticks_, Stage::bounds);
   const Real half_margin = Real(0.5) * scene_->world.contact_margin;
   const Real gravity_speed = scene_->world.gravity.norm() * dt;
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
@@ -716,7 +718,7 @@ void Simulation::update_bounds(Real dt) {
 }
 
 void Simulation::find_candidate_pairs() {
-  StageTimer timer(current_, Stage::broad_phase);
+  StageTimer timer(current_, ticks_, Stage::broad_phase);
   broad_phase_->find_pairs(candidate_pairs_);
   current_.candidate_pairs += static_cast<std::int64_t>(candidate_pairs_.size());
   // Thousands of bodies in one place pair each with each; the narrow phase would then exhaust the
@@ -745,10 +747,10 @@ void Simulation::find_candidate_pairs() {
 // (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
 // batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
 void Simulation::collide_candidate_pairs() {
-  StageTimer timer(current_, Stage::narrow_phase);
+  StageTimer timer(current_, ticks_, Stage::narrow_phase);
   // The pass that sorts the candidates (recycling the kept manifolds as it goes) and the queries
   // of the rest are timed apart, so that recycled and recomputed pairs have each their cost.
-  const auto sort_start = std::chrono::steady_clock::now();
+  const std::uint64_t sort_start = read_ticks();
   contacts_.clear();
   penalty_springs_.clear();
   const auto& bodies = scene_->bodies;
@@ -910,7 +912,7 @@ void Simulation::collide_candidate_pairs() {
         break;
     }
   }
-  const auto query_start = std::chrono::steady_clock::now();
+  const std::uint64_t query_start = read_ticks();
   hull_hits_.assign(other_candidates_.size(), 0);
   if (box_manifolds_.size() < box_queries_.size())
     box_manifolds_.resize(box_queries_.size());
@@ -998,9 +1000,9 @@ void Simulation::collide_candidate_pairs() {
     }
   }
 
-  const auto query_end = std::chrono::steady_clock::now();
-  current_.recycle_seconds += std::chrono::duration<double>(query_start - sort_start).count();
-  current_.recompute_seconds += std::chrono::duration<double>(query_end - query_start).count();
+  const std::uint64_t query_end = read_ticks();
+  ticks_.recycle += query_start - sort_start;
+  ticks_.recompute += query_end - query_start;
   next_manifolds_.clear();
   next_box_axes_.clear();
   next_gjk_caches_.clear();
@@ -1075,7 +1077,7 @@ void Simulation::prepare_contacts() {
   if (w.solver == SolverType::penalty) {
     // The penalty solver runs every moving body in one group, at penalty_substeps().
     {
-      StageTimer timer(current_, SolvePhase::islands_and_sleep);
+      StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
       group_settings_.resize(1);
       group_settings_[0].substeps = penalty_substeps_;
       group_settings_[0].substep = w.dt / penalty_substeps_;
@@ -1087,7 +1089,7 @@ void Simulation::prepare_contacts() {
       group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
       current_.max_substeps = penalty_substeps_;
     }
-    StageTimer timer(current_, SolvePhase::prepare);
+    StageTimer timer(current_, ticks_, SolvePhase::prepare);
     PenaltySolverSettings settings;
     settings.substep = group_settings_[0].substep;
     settings.min_iterations = w.iterations;
@@ -1098,14 +1100,14 @@ void Simulation::prepare_contacts() {
     return;
   }
   {
-    StageTimer timer(current_, SolvePhase::prepare);
+    StageTimer timer(current_, ticks_, SolvePhase::prepare);
     solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
   }
   {
-    StageTimer timer(current_, SolvePhase::islands_and_sleep);
+    StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
     choose_substeps();
   }
-  StageTimer timer(current_, SolvePhase::prepare);
+  StageTimer timer(current_, ticks_, SolvePhase::prepare);
   solver_.pack(group_of_contact_, group_settings_, model_->kinematic_flags());
   current_.contact_points += solver_.point_count();
 }
@@ -1310,7 +1312,7 @@ void Simulation::choose_substeps() {
 void Simulation::solve_contacts(int group) {
   const WorldSettings& w = scene_->world;
   if (w.solver == SolverType::penalty) {
-    StageTimer timer(current_, SolvePhase::soft_passes);
+    StageTimer timer(current_, ticks_, SolvePhase::soft_passes);
     penalty_solver_.begin_substep(state_.bodies);
     const PenaltySolverSettings& settings = penalty_solver_.settings();
     for (int it = 0; it < settings.max_iterations; ++it) {
@@ -1323,7 +1325,7 @@ void Simulation::solve_contacts(int group) {
     return;
   }
   {
-    StageTimer timer(current_, SolvePhase::warm_start);
+    StageTimer timer(current_, ticks_, SolvePhase::warm_start);
     solver_.load_velocities(group, state_.bodies);
     // Impacts first, on the velocities the bodies arrive with: after the warm start they would
     // reflect the approach the cached impulses add, which the passes may take back but the
@@ -1331,7 +1333,7 @@ void Simulation::solve_contacts(int group) {
     solver_.resolve_impacts(group);
     solver_.warm_start(group);
   }
-  StageTimer timer(current_, SolvePhase::soft_passes);
+  StageTimer timer(current_, ticks_, SolvePhase::soft_passes);
   for (int it = 0; it < w.iterations; ++it)
     solver_.solve(group, /*use_bias=*/true);
   solver_.store_velocities(group, state_.bodies);
@@ -1347,7 +1349,7 @@ void Simulation::relax_contacts(int group) {
   if (w.solver == SolverType::penalty)
     return;
   {
-    StageTimer timer(current_, SolvePhase::relax_passes);
+    StageTimer timer(current_, ticks_, SolvePhase::relax_passes);
     solver_.update_separations(group, state_.bodies);
     solver_.load_velocities(group, state_.bodies);
     for (int it = 0; it < w.relax_iterations; ++it)
@@ -1355,13 +1357,13 @@ void Simulation::relax_contacts(int group) {
     current_.solver_iterations += w.relax_iterations;
     current_.point_passes += std::int64_t(w.relax_iterations) * solver_.group_point_count(group);
   }
-  StageTimer timer(current_, SolvePhase::restitution);
+  StageTimer timer(current_, ticks_, SolvePhase::restitution);
   solver_.apply_restitution(group);
   solver_.store_velocities(group, state_.bodies);
 }
 
 void Simulation::finish_contacts() {
-  StageTimer timer(current_, SolvePhase::store_impulses);
+  StageTimer timer(current_, ticks_, SolvePhase::store_impulses);
   if (scene_->world.solver == SolverType::penalty)
     penalty_solver_.store(state_.contacts);
   else
@@ -1369,7 +1371,7 @@ void Simulation::finish_contacts() {
 }
 
 void Simulation::integrate_positions(int group, Real h) {
-  StageTimer timer(current_, Stage::integrate_positions);
+  StageTimer timer(current_, ticks_, Stage::integrate_positions);
   PositionIntegration in;
   in.states = state_.bodies.data();
   in.carries = carries_.data();

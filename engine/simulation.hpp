@@ -21,6 +21,7 @@
 #include "engine/model.hpp"
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
+#include "engine/step_ticks.hpp"
 
 namespace tumble {
 
@@ -251,6 +252,7 @@ class Simulation {
   std::unique_ptr<ContinuousCollision> continuous_;  // null when the scene never sweeps
 
   StepStatistics current_;
+  StepTicks ticks_;  // the stage timers' counts during a step, in current_ at its end
   StepStatistics last_step_;
 };
 
