@@ -307,12 +307,58 @@ PYBIND11_MODULE(_tumble, m) {
         return out;
       },
       py::arg("shape_a"), py::arg("pose_a"), py::arg("shape_b"), py::arg("pose_b"),
-      "Signed distance of two convex shapes, a convex shape and a plane, or a convex shape and "
-      "an SDF shape ({'type': 'sdf', 'sdf': {...}}), written as in a scene ({'type': 'box', "
+      "Signed distance of two convex shapes, a convex shape and a plane, or an SDF shape "
+      "({'type': 'sdf', 'sdf': {...}}) and a convex shape, a plane or another SDF shape, "
+      "written as in a scene ({'type': 'box', "
       "'half_extents': [1, 1, 1]}), at poses of 3 numbers (position) or "
       "7 (position, then w x y z): a dict with distance (negative in penetration), point_a, "
       "point_b, normal (from B to A), gradient_a and gradient_b (d distance / d pose: "
       "translation, then rotation about the body's origin, world axes) and converged.");
+
+  m.def(
+      "contact_potential",
+      [](const py::dict& distance, Real stiffness, Real max_gradient) {
+        // The dict tumble.distance returns: its distance and the two gradients of 6.
+        const auto number = [&](const char* key) {
+          if (!distance.contains(key))
+            throw py::value_error(std::string("contact_potential: distance has no '") + key +
+                                  "' (pass what tumble.distance returns)");
+          return distance[key];
+        };
+        const auto gradient = [&](const char* key) {
+          const std::vector<Real> v = number(key).cast<std::vector<Real>>();
+          if (v.size() != 6)
+            throw py::value_error(std::string("contact_potential: ") + key +
+                                  " must have 6 numbers, got " + std::to_string(v.size()));
+          tumble::PoseGradient g;
+          for (int k = 0; k < 6; ++k) {
+            if (!std::isfinite(v[std::size_t(k)]))
+              throw py::value_error(std::string("contact_potential: ") + key + " must be finite");
+            g[k] = v[std::size_t(k)];
+          }
+          return g;
+        };
+        if (!(std::isfinite(stiffness) && stiffness >= 0))
+          throw py::value_error("contact_potential: stiffness must be finite and not negative");
+        if (!(max_gradient > 0))
+          throw py::value_error("contact_potential: max_gradient must be positive");
+        tumble::ShapeDistance d;
+        d.distance = number("distance").cast<Real>();
+        if (!std::isfinite(d.distance))
+          throw py::value_error("contact_potential: the distance must be finite");
+        d.gradient_a = gradient("gradient_a");
+        d.gradient_b = gradient("gradient_b");
+        const tumble::ContactPotential p = tumble::contact_potential(d, stiffness, max_gradient);
+        py::dict out;
+        out["value"] = p.value;
+        out["gradient_a"] = array_of(p.gradient_a);
+        out["gradient_b"] = array_of(p.gradient_b);
+        return out;
+      },
+      py::arg("distance"), py::arg("stiffness"), py::arg("max_gradient"),
+      "The smooth contact potential of a pair from what tumble.distance returned: value "
+      "k/2 d^2 in penetration (d < 0), zero apart, and its gradients k d (d distance / d pose) "
+      "with each component clipped to [-max_gradient, max_gradient].");
 
   py::class_<tumble::SdfTree>(m, "Sdf")
       .def(py::init([](const py::object& description) {

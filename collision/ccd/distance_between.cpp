@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "collision/ccd/field_distance.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
 #include "collision/shapes/sdf_shape.hpp"
@@ -354,18 +355,27 @@ ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Sh
                                const Transform& pose_b, bool gradients) {
   check(a, pose_a, "a");
   check(b, pose_b, "b");
+  if (a.type == ShapeType::sdf && b.type == ShapeType::sdf) {
+    ShapeDistance d = field_and_field(*a.sdf, a.field_time, pose_a, *b.sdf, b.field_time, pose_b);
+    if (!gradients) {
+      d.gradient_a.setZero();
+      d.gradient_b.setZero();
+    }
+    return d;
+  }
   if (a.type == ShapeType::sdf || b.type == ShapeType::sdf) {
     const bool field_is_b = b.type == ShapeType::sdf;
     const Shape& other = field_is_b ? a : b;
-    if (!is_convex(other.type))
-      throw Error("distance_between: a field against a " +
-                  std::string(shape_type_name(other.type)) +
-                  "; fields are measured against spheres, capsules, boxes, cylinders and hulls "
-                  "(docs/sdf.md)");
-    const bool round = other.type == ShapeType::sphere || other.type == ShapeType::capsule;
-    const auto measure = round ? round_and_field : solid_and_field;
-    ShapeDistance d = field_is_b ? measure(a, pose_a, *b.sdf, b.field_time, pose_b)
-                                 : measure(b, pose_b, *a.sdf, a.field_time, pose_a);
+    ShapeDistance d;
+    if (other.type == ShapeType::plane) {
+      d = field_is_b ? plane_and_field(pose_a, *b.sdf, b.field_time, pose_b)
+                     : plane_and_field(pose_b, *a.sdf, a.field_time, pose_a);
+    } else {
+      const bool round = other.type == ShapeType::sphere || other.type == ShapeType::capsule;
+      const auto measure = round ? round_and_field : solid_and_field;
+      d = field_is_b ? measure(a, pose_a, *b.sdf, b.field_time, pose_b)
+                     : measure(b, pose_b, *a.sdf, a.field_time, pose_a);
+    }
     if (!field_is_b) {
       std::swap(d.point_a, d.point_b);
       std::swap(d.gradient_a, d.gradient_b);

@@ -37,14 +37,15 @@ struct ShapeDistance {
 };
 
 // Between two convex shapes (sphere, box, capsule, cylinder, hull), a convex shape and a plane
-// (the solid half-space below it), or a convex shape and a signed distance field (the least
-// value of the field over the shape, a sphere's or capsule's over its core less the radius, with
-// gradients from grad phi there; zero where that point is a kink of the field phi cannot go below).
-// Throws tumble::Error for a mesh, a compound, a plane against a field, two planes, a field
-// against a field, or a pose that is not finite. Without `gradients` the gradients are left zero (a
-// penetrating pair with a cylinder then costs one query instead of 25: its gradients are central
-// differences of the depth, since EPA's witness points on the curved rim are off the line of
-// contact).
+// (the solid half-space below it), or a signed distance field and a convex shape, a plane or
+// another field. Against a field: the least value of the field over the shape (a sphere's or
+// capsule's over its core less the radius; over the half-space for a plane), with gradients
+// from grad phi there, zero where that point is a kink of the field phi cannot go below; two
+// fields: the least of phi_A + phi_B (their distance while apart). Throws tumble::Error for a
+// mesh, a compound, two planes, or a pose that is not finite. Without `gradients` the gradients
+// are left zero (a penetrating pair with a cylinder then costs one query instead of 25: its
+// gradients are central differences of the depth, since EPA's witness points on the curved rim
+// are off the line of contact).
 ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Shape& b,
                                const Transform& pose_b, bool gradients = true);
 

@@ -130,5 +130,41 @@ def test_distance_of_a_sphere_to_a_field_has_its_gradient():
                           [0, 0, 0])
     assert box["distance"] == pytest.approx(0.05, abs=1e-9)
     np.testing.assert_allclose(box["gradient_a"][:3], [0, 0, 1], atol=1e-6)
-    with pytest.raises(tumble.Error, match="fields are measured against"):
-        tumble.distance({"type": "plane"}, [0, 0, 1], torus, [0, 0, 0])
+    # The floor's half-space below z = -0.5: the tube's bottom is 0.3 m above it, and raising
+    # the floor closes the gap one for one.
+    floor = tumble.distance({"type": "plane"}, [0, 0, -0.5], torus, [0, 0, 0])
+    assert floor["distance"] == pytest.approx(0.3, abs=1e-9)
+    np.testing.assert_allclose(floor["normal"], [0, 0, -1], atol=1e-9)
+    np.testing.assert_allclose(floor["gradient_a"][:3], [0, 0, -1], atol=1e-9)
+
+
+def test_distance_of_two_fields_is_their_gap():
+    # Two balls given as fields, 0.3 and 0.5 m, centres 1 m apart along (0, 0.6, 0.8): 0.2 m.
+    ball = {"type": "sdf", "sdf": {"sphere": {"radius": 0.3}}}
+    big = {"type": "sdf", "sdf": {"sphere": {"radius": 0.5}}}
+    d = tumble.distance(ball, [0, 0.6, 0.8], big, [0, 0, 0])
+    assert d["distance"] == pytest.approx(0.2, abs=1e-9)
+    np.testing.assert_allclose(d["normal"], [0, 0.6, 0.8], atol=1e-6)
+    np.testing.assert_allclose(d["gradient_a"], [0, 0.6, 0.8, 0, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(d["gradient_b"], [0, -0.6, -0.8, 0, 0, 0], atol=1e-6)
+
+
+def test_contact_potential_is_the_clipped_spring_of_the_depth():
+    ball = {"type": "sphere", "radius": 0.5}
+    apart = tumble.distance(ball, [0, 0, 0], ball, [0, 0, 1.5])
+    assert tumble.contact_potential(apart, 100.0, 1.0)["value"] == 0
+    d = tumble.distance(ball, [0, 0, 0], ball, [0, 0, 0.9])  # 0.1 m deep
+    p = tumble.contact_potential(d, 100.0, 1e6)
+    assert p["value"] == pytest.approx(100 / 2 * 0.01, rel=1e-12)
+    np.testing.assert_allclose(p["gradient_a"], 100 * d["distance"] * d["gradient_a"], rtol=1e-12)
+    # k d dd/dz_a = 100 * -0.1 * -1 = 10: clipped to 2.
+    clipped = tumble.contact_potential(d, 100.0, 2.0)
+    assert clipped["gradient_a"][2] == pytest.approx(2.0)
+    assert clipped["gradient_b"][2] == pytest.approx(-2.0)
+    with pytest.raises(ValueError, match="max_gradient"):
+        tumble.contact_potential(d, 100.0, 0.0)
+    with pytest.raises(ValueError, match="gradient_a"):
+        tumble.contact_potential({"distance": -0.1, "gradient_a": [0, 0, 1],
+                                  "gradient_b": [0] * 6}, 1.0, 1.0)
+    with pytest.raises(ValueError, match="no 'distance'"):
+        tumble.contact_potential({}, 1.0, 1.0)
