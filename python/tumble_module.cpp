@@ -290,12 +290,18 @@ PYBIND11_MODULE(_tumble, m) {
           tumble::Shape s = tumble::load_shape_string(yaml_of(shape, what), what, &centre,
                                                       {.allow_outside_files = true});
           tumble::Transform t = pose_of(pose, pose_what);
-          t.translation += t.rotation * centre;
-          return std::make_pair(s, t);
+          const Vec3 offset = t.rotation * centre;
+          t.translation += offset;
+          return std::make_tuple(s, t, offset);
         };
-        const auto [a, ta] = shape_pose(shape_a, pose_a, "shape_a", "pose_a");
-        const auto [b, tb] = shape_pose(shape_b, pose_b, "shape_b", "pose_b");
-        const tumble::ShapeDistance d = tumble::distance_between(a, ta, b, tb);
+        const auto [a, ta, offset_a] = shape_pose(shape_a, pose_a, "shape_a", "pose_a");
+        const auto [b, tb, offset_b] = shape_pose(shape_b, pose_b, "shape_b", "pose_b");
+        tumble::ShapeDistance d = tumble::distance_between(a, ta, b, tb);
+        // The library turns a body about its centre of mass; the pose given here is that of the
+        // frame the shape was written in, `offset` from it. Turning about the frame's origin
+        // also carries the centre around it: w x offset, at the rate of the translation gradient.
+        d.gradient_a.tail<3>() += offset_a.cross(Vec3(d.gradient_a.head<3>()));
+        d.gradient_b.tail<3>() += offset_b.cross(Vec3(d.gradient_b.head<3>()));
         py::dict out;
         out["distance"] = d.distance;
         out["point_a"] = array_of(d.point_a);
@@ -313,7 +319,7 @@ PYBIND11_MODULE(_tumble, m) {
       "'half_extents': [1, 1, 1]}), at poses of 3 numbers (position) or "
       "7 (position, then w x y z): a dict with distance (negative in penetration), point_a, "
       "point_b, normal (from B to A), gradient_a and gradient_b (d distance / d pose: "
-      "translation, then rotation about the body's origin, world axes) and converged.");
+      "translation, then rotation about the pose's position, world axes) and converged.");
 
   m.def(
       "contact_potential",

@@ -168,3 +168,36 @@ def test_contact_potential_is_the_clipped_spring_of_the_depth():
                                   "gradient_b": [0] * 6}, 1.0, 1.0)
     with pytest.raises(ValueError, match="no 'distance'"):
         tumble.contact_potential({}, 1.0, 1.0)
+
+
+def _turned(pose, axis, angle):
+    """pose (7 numbers) turned by `angle` about world axis `axis` about its position."""
+    half = angle / 2
+    a = np.zeros(4)
+    a[0] = math.cos(half)
+    a[1 + axis] = math.sin(half)
+    b = np.asarray(pose[3:])
+    q = [a[0] * b[0] - a[1:] @ b[1:], *(a[0] * b[1:] + b[0] * a[1:] + np.cross(a[1:], b[1:]))]
+    return [*pose[:3], *q]
+
+
+def test_rotation_gradients_turn_about_the_pose_position():
+    # A hull written 1.5 m from its frame's origin: the library turns bodies about their centre
+    # of mass, tumble.distance about the pose given, and its rotation gradients must be those.
+    rng = np.random.default_rng(3)
+    hull = {"type": "hull", "points": (rng.uniform(-0.3, 0.3, size=(12, 3)) + 1.5).tolist()}
+    box = {"type": "box", "half_extents": [0.4, 0.3, 0.2]}
+    h = 1e-6
+    checked = 0
+    for _ in range(30):
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        pose_b = [*rng.uniform(-1, 1, size=3), *q]
+        pose_a = [*rng.uniform(1, 2, size=3), 1, 0, 0, 0]
+        d = tumble.distance(box, pose_a, hull, pose_b)
+        for k in range(3):
+            fd = (tumble.distance(box, pose_a, hull, _turned(pose_b, k, h))["distance"] -
+                  tumble.distance(box, pose_a, hull, _turned(pose_b, k, -h))["distance"]) / (2 * h)
+            assert d["gradient_b"][3 + k] == pytest.approx(fd, abs=1e-5)
+            checked += 1
+    assert checked == 90
