@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "collision/ccd/field_distance.hpp"
+#include "collision/ccd/projected_descent.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
 #include "collision/shapes/sdf_shape.hpp"
@@ -202,34 +203,7 @@ ShapeDistance solid_and_field(const Shape& a, const Transform& pose_a, const Sdf
   for (const auto& [start_value, start] : seeds) {
     if (!std::isfinite(start_value))
       continue;
-    Vec3 x = start;
-    sdf::Sample here = phi(x);
-    Real step = size / 8;
-    for (int iteration = 0; iteration < 2000 && step > size * 1e-14; ++iteration) {
-      // The feasible direction d to the projected step (the segment stays in A: A is convex),
-      // and the least of the parabola through phi(x), its slope g.d and phi(x + d) along it.
-      const Vec3 d = project(x - step * here.gradient) - x;
-      if (!(d.norm() > size * 1e-15))
-        break;  // stationary: the gradient points straight out of A
-      const Real slope = here.gradient.dot(d);
-      if (!(slope < 0)) {
-        step /= 2;  // not downhill (a kink of phi, or rounding): a shorter step
-        continue;
-      }
-      const Real end = phi(x + d).distance;
-      const Real curvature = end - here.distance - slope;
-      const Real t = curvature > 0 ? std::min(Real(1), -slope / (2 * curvature)) : Real(1);
-      const Vec3 y = x + t * d;
-      const sdf::Sample there = phi(y);
-      if (!(there.distance < here.distance)) {
-        step /= 2;
-        continue;
-      }
-      x = y;
-      here = there;
-      if (t == 1)
-        step *= 2;  // the whole step was taken: there may be room for a longer one
-    }
+    const auto [x, here] = projected_descent(start, size, 2000, phi, project);
     if (here.distance < best) {
       best = here.distance;
       core = x;

@@ -1,12 +1,10 @@
 // plane_and_field and field_and_field (collision/ccd/field_distance.hpp). Both find the least of a
-// function of a point by projected gradient descent (Rosen, "The gradient projection method for
-// nonlinear programming", J. SIAM 8, 1960): a step against the gradient, projected back onto the
-// feasible set (the plane's half-space; all of space for two fields), then the least of a
-// parabola fitted along the segment to it, kept when the value falls (the step doubling when the
-// whole segment was taken) and the step halved otherwise; from a few seeds, the lowest result
-// kept. The derivatives with respect to the poses follow from the envelope theorem: at the
-// optimum the point's own motion changes the value only to second order, so the distance changes
-// as the fields move past a fixed point (docs/sdf.md, "Gradients").
+// function of a point by projected gradient descent (collision/ccd/projected_descent.hpp; Rosen,
+// "The gradient projection method for nonlinear programming", J. SIAM 8, 1960) over the plane's
+// half-space, or all of space for two fields, from a few seeds, the lowest result kept. The
+// derivatives with respect to the poses follow from the envelope theorem: at the optimum the
+// point's own motion changes the value only to second order, so the distance changes as the fields
+// move past a fixed point (docs/sdf.md, "Gradients").
 #include "collision/ccd/field_distance.hpp"
 
 #include <algorithm>
@@ -16,6 +14,7 @@
 #include <string>
 #include <utility>
 
+#include "collision/ccd/projected_descent.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -24,46 +23,10 @@ namespace {
 // Surface points a field offers as seeds: at most this many, spread by a fixed stride.
 constexpr int kSeedCandidates = 128;
 constexpr int kSeeds = 3;
-
-struct Value {
-  Real value = 0;
-  Vec3 gradient = Vec3::Zero();
-};
-
-// The descent from `start` (already feasible). `objective(x)` gives the value and gradient,
-// `project(x)` the feasible point nearest x. Stops when the projected step vanishes or the step
-// length falls below 1e-14 of `size`.
-template <class Objective, class Project>
-std::pair<Vec3, Value> descend(const Vec3& start, Real size, const Objective& objective,
-                               const Project& project) {
-  Vec3 x = start;
-  Value here = objective(x);
-  Real step = size / 8;
-  for (int iteration = 0; iteration < 20000 && step > size * Real(1e-14); ++iteration) {
-    const Vec3 d = project(Vec3(x - step * here.gradient)) - x;
-    if (!(d.norm() > size * Real(1e-15)))
-      break;  // stationary, or the gradient points straight out of the feasible set
-    const Real slope = here.gradient.dot(d);
-    if (!(slope < 0)) {
-      step /= 2;  // not downhill (a kink, or rounding): a shorter step
-      continue;
-    }
-    const Real end = objective(Vec3(x + d)).value;
-    const Real curvature = end - here.value - slope;
-    const Real t = curvature > 0 ? std::min(Real(1), -slope / (2 * curvature)) : Real(1);
-    const Vec3 y = x + t * d;
-    const Value there = objective(y);
-    if (!(there.value < here.value)) {
-      step /= 2;
-      continue;
-    }
-    x = y;
-    here = there;
-    if (t == 1)
-      step *= 2;
-  }
-  return {x, here};
-}
+// Steps per descent. 2,000 (the solids' cap) left 12 of 10,000 plane-torus configurations less
+// than 4 mm from the core ridge, where phi is nearly a cone and the descent zigzags, with
+// gradients 0.4% off; the cap is reached only there.
+constexpr int kMaxDescentSteps = 20000;
 
 // Keeps the kSeeds lowest (value, point) pairs, lowest first; a point met again is not a new seed.
 struct SeedList {
@@ -105,6 +68,21 @@ void check_within_reach(const SdfShape& field, Real value, const char* which) {
                 " m of its surface); widen the level set's band (docs/sdf.md)");
 }
 
+// Descends from each seed of `seeds`, and keeps in `best` and `core` the lowest end met so far.
+template <class Objective, class Project>
+void descend_from(const SeedList& seeds, Real size, const Objective& objective,
+                  const Project& project, Real& best, Vec3& core) {
+  for (const auto& [value, start] : seeds.seeds) {
+    if (!std::isfinite(value))
+      continue;
+    const auto [x, reached] = projected_descent(start, size, kMaxDescentSteps, objective, project);
+    if (reached.distance < best) {
+      best = reached.distance;
+      core = x;
+    }
+  }
+}
+
 Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
   const Real n = v.norm();
   return n > 0 ? Vec3(v / n) : fallback;
@@ -120,10 +98,7 @@ ShapeDistance plane_and_field(const Transform& plane_pose, const SdfShape& field
     const Real height = (x - origin).dot(up);
     return height > 0 ? Vec3(x - height * up) : x;
   };
-  const auto objective = [&](const Vec3& x) {
-    const sdf::Sample s = world_sample(field, time, field_pose, x);
-    return Value{s.distance, s.gradient};
-  };
+  const auto objective = [&](const Vec3& x) { return world_sample(field, time, field_pose, x); };
   // Seeds: the field's surface points lowest along the plane's normal, moved onto its solid.
   SeedList seeds;
   for_each_seed_candidate(field, field_pose,
@@ -131,15 +106,7 @@ ShapeDistance plane_and_field(const Transform& plane_pose, const SdfShape& field
   const Real size = field.bounding_radius();
   Real best = std::numeric_limits<Real>::infinity();
   Vec3 core = origin;
-  for (const auto& [height, start] : seeds.seeds) {
-    if (!std::isfinite(height))
-      continue;
-    const auto [x, value] = descend(start, size, objective, project);
-    if (value.value < best) {
-      best = value.value;
-      core = x;
-    }
-  }
+  descend_from(seeds, size, objective, project, best, core);
   const sdf::Sample s = world_sample(field, time, field_pose, core);
   check_within_reach(field, s.distance, "the field");
   ShapeDistance d;
@@ -163,7 +130,7 @@ ShapeDistance plane_and_field(const Transform& plane_pose, const SdfShape& field
         if (i != 0 || j != 0 || k != 0)
           lowest_around = objective(Vec3(core + size * Real(1e-10) *
                                                     Vec3(Real(i), Real(j), Real(k)).normalized()))
-                              .value >= d.distance;
+                              .distance >= d.distance;
   if (lowest_around) {
     d.gradient_a.setZero();
     d.gradient_b.setZero();
@@ -176,7 +143,7 @@ ShapeDistance field_and_field(const SdfShape& a, Real time_a, const Transform& p
   const auto objective = [&](const Vec3& x) {
     const sdf::Sample sa = world_sample(a, time_a, pose_a, x);
     const sdf::Sample sb = world_sample(b, time_b, pose_b, x);
-    return Value{sa.distance + sb.distance, Vec3(sa.gradient + sb.gradient)};
+    return sdf::Sample{sa.distance + sb.distance, Vec3(sa.gradient + sb.gradient)};
   };
   const auto anywhere = [](const Vec3& x) { return x; };
   // Seeds: each field's surface points where the other field is lowest.
@@ -190,16 +157,8 @@ ShapeDistance field_and_field(const SdfShape& a, Real time_a, const Transform& p
   const Real size = std::min(a.bounding_radius(), b.bounding_radius());
   Real best = std::numeric_limits<Real>::infinity();
   Vec3 core = pose_a.translation;
-  for (const SeedList* list : {&seeds_on_a, &seeds_on_b})
-    for (const auto& [value, start] : list->seeds) {
-      if (!std::isfinite(value))
-        continue;
-      const auto [x, reached] = descend(start, size, objective, anywhere);
-      if (reached.value < best) {
-        best = reached.value;
-        core = x;
-      }
-    }
+  descend_from(seeds_on_a, size, objective, anywhere, best, core);
+  descend_from(seeds_on_b, size, objective, anywhere, best, core);
   const sdf::Sample sa = world_sample(a, time_a, pose_a, core);
   const sdf::Sample sb = world_sample(b, time_b, pose_b, core);
   check_within_reach(a, sa.distance, "field A");

@@ -131,6 +131,27 @@ SdfNode torus_grid_node() {
       GridInterpolation::tricubic);
 }
 
+// Gradients against central differences of step 1e-5 (the descents stop within about 1e-11 m
+// of their least value, which a step of 1e-6 would turn into 1e-5 of slope) on 10,000 random
+// configurations per case (400 in the instrumented run, where a quarter would take 80 s). Within
+// 2 mm of the torus's core ridge phi is a cone and the descent's point inexact: counted apart.
+// Kinks: the least point jumping between two basins or corners.
+void expect_field_gradients_match(const std::vector<FieldCase>& cases, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const int count = property_scale() < 1 ? 400 : 10000;
+  for (const FieldCase& c : cases) {
+    const auto [penetrating, kinks, near_ridge, unexplained] =
+        tally_gradients(c, rng, count, 1e-5, -0.2 + 2e-3);
+    std::printf(
+        "%s: %d configurations, %d penetrating, %d kinks, %d near the ridge, %d unexplained\n",
+        c.name, count, penetrating, kinks, near_ridge, unexplained);
+    EXPECT_EQ(unexplained, 0) << c.name;
+    EXPECT_LT(kinks, count / 50) << c.name;
+    EXPECT_LT(near_ridge, count / 100) << c.name;
+    EXPECT_GT(penetrating, count / 20) << c.name;
+  }
+}
+
 // Boxes, cylinders and hulls: the least phi over the solid, by projected gradient descent, against
 // fields smooth but for the torus's core ridge (whose value is the same all along it, so a solid
 // holding it keeps the same distance: zero gradients, which the differences confirm). Kinks: the
@@ -144,25 +165,7 @@ TEST(SdfDistance, SolidsGradientsMatchCentralDifferences) {
       {"hull-torus", SdfNode::torus(0.6, 0.2), hull_from_points(pyramid)},
       {"box-grid", torus_grid_node(), Shape::box(Vec3(0.12, 0.08, 0.06))},
   };
-  std::mt19937_64 rng(53);
-  // Each configuration is 25 descents; the instrumented run (TUMBLE_PROPERTY_SCALE < 1) checks
-  // the memory of 400 of them (a quarter would take 80 s there).
-  const int count = property_scale() < 1 ? 400 : 10000;
-  for (const FieldCase& c : cases) {
-    // The descent stops within about 1e-11 m of the least distance on a curved face (a
-    // cylinder's side), which a step of 1e-6 would turn into 1e-5 of slope: the differences
-    // step 1e-5. Within 2 mm of the torus's core ridge phi is a cone, and the descent's point
-    // inexact: counted apart.
-    const auto [penetrating, kinks, near_ridge, unexplained] =
-        tally_gradients(c, rng, count, 1e-5, -0.2 + 2e-3);
-    std::printf(
-        "%s: %d configurations, %d penetrating, %d kinks, %d near the ridge, %d unexplained\n",
-        c.name, count, penetrating, kinks, near_ridge, unexplained);
-    EXPECT_EQ(unexplained, 0) << c.name;
-    EXPECT_LT(kinks, count / 50) << c.name;
-    EXPECT_LT(near_ridge, count / 100) << c.name;
-    EXPECT_GT(penetrating, count / 20) << c.name;
-  }
+  expect_field_gradients_match(cases, 53);
 }
 
 TEST(SdfDistance, ASolidsDistanceIsTheLeastOverItsSurface) {
@@ -261,29 +264,9 @@ TEST(SdfDistance, TwoFieldBallsAreAtTheirClosedFormDistance) {
   EXPECT_GT(overlapping, scaled(1000) / 10);
 }
 
-// A plane's half-space against a field, and a field against a field: gradients against central
-// differences (step 1e-5, like the solids: the descents stop within about 1e-11 m of their least
-// value) on 10,000 random configurations each, of fields smooth wherever the least point lands
-// (the torus's core ridge, where phi is a cone, is counted apart as for the solids). Kinks are
-// the least point jumping between two basins. Fields whose least point sits on a ridge whose
-// value changes along it (a box's or a CSG solid's inside) are not asserted: docs/sdf.md,
-// "Gradients", has their counts.
-void expect_field_gradients_match(const std::vector<FieldCase>& cases, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  const int count = property_scale() < 1 ? 400 : 10000;
-  for (const FieldCase& c : cases) {
-    const auto [penetrating, kinks, near_ridge, unexplained] =
-        tally_gradients(c, rng, count, 1e-5, -0.2 + 2e-3);
-    std::printf(
-        "%s: %d configurations, %d penetrating, %d kinks, %d near the ridge, %d unexplained\n",
-        c.name, count, penetrating, kinks, near_ridge, unexplained);
-    EXPECT_EQ(unexplained, 0) << c.name;
-    EXPECT_LT(kinks, count / 50) << c.name;
-    EXPECT_LT(near_ridge, count / 100) << c.name;
-    EXPECT_GT(penetrating, count / 20) << c.name;
-  }
-}
-
+// A plane's half-space against a field, and a field against a field, on fields smooth wherever the
+// least point lands. Fields whose least point sits on a ridge whose value changes along it (a
+// box's or a CSG solid's inside) are not asserted: docs/sdf.md, "Gradients", has their counts.
 TEST(SdfDistance, PlaneAgainstFieldGradientsMatchCentralDifferences) {
   expect_field_gradients_match({{"plane-torus", SdfNode::torus(0.6, 0.2), Shape::plane()}}, 54);
 }

@@ -124,6 +124,40 @@ TEST(SdfContact, SphereAgainstAFieldSphereHasTheExactDepthAndNormal) {
   EXPECT_GT(touching, cases / 2);
 }
 
+// A box of half extents (0.2, 0.3, 0.25) at random poses into `field`, a field of the box of
+// half extents `half` at the origin, against the exact box pair: of the poses whose exact
+// deepest point is one to two of the field's cells deep, how many there were and the largest
+// difference of the deepest points' depths. Shallower, an edge crossing an edge can go unseen by
+// the points' spacing; deeper than resting contacts go, "the" depth depends on the measure (the
+// box pair's is the least overlap over the separating axes, the field's the deepest point's
+// distance).
+std::pair<int, Real> box_into_field_box(const Shape& field, const Vec3& half, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  const Shape exact = Shape::box(half);
+  const Shape box = Shape::box(Vec3(0.2, 0.3, 0.25));
+  const int cases = scaled(10000);
+  const Real cell = field.sdf->cell_size();
+  int compared = 0;
+  Real worst = 0;
+  for (int i = 0; i < cases; ++i) {
+    const Transform pose_b{Vec3::Zero(), field_test_rotation(rng)};
+    const Transform pose_a{Vec3(u(rng), u(rng), u(rng)) * 0.9, field_test_rotation(rng)};
+    Manifold reference;
+    const int nr = collide(box, pose_a, exact, pose_b, 0.0, reference);
+    if (nr == 0 || deepest_point_depth(reference, nr) < cell ||
+        deepest_point_depth(reference, nr) > 2 * cell)
+      continue;
+    Manifold m;
+    const int n = collide(box, pose_a, field, pose_b, 0.0, m);
+    EXPECT_GT(n, 0) << i;
+    ++compared;
+    worst =
+        std::max(worst, std::abs(deepest_point_depth(m, n) - deepest_point_depth(reference, nr)));
+  }
+  return {compared, worst};
+}
+
 // A ball of 0.5 m and a box of half extents (0.5, 0.4, 0.3) sampled at the nodes of a dense grid
 // of 2 cm cells (collision/sdf/sdf_grid.hpp), so that the exact answer is known: the ball's grid
 // spans +-0.9 m (a partner's core may reach 0.8 m out), the box's reaches 0.1 m past its faces.
@@ -184,31 +218,9 @@ TEST(SdfContact, ABallAgainstAGridFieldHasTheExactDepthWithinTheGridsResolution)
 // cell of the shape's point spacing, as for the analytic field box below.
 TEST(SdfContact, ABoxIntoAGridFieldBoxMatchesTheBoxPairWithinACell) {
   const Shape field = sdf_shape(sampled_grid_field(false, GridInterpolation::tricubic));
-  const Shape exact = Shape::box(Vec3(0.5, 0.4, 0.3));
-  const Shape box = Shape::box(Vec3(0.2, 0.3, 0.25));
-  std::mt19937_64 rng(15);
-  std::uniform_real_distribution<Real> u(-1, 1);
-  const int cases = scaled(10000);
-  int compared = 0;
-  Real worst = 0;
-  for (int i = 0; i < cases; ++i) {
-    const Transform pose_b{Vec3::Zero(), field_test_rotation(rng)};
-    const Transform pose_a{Vec3(u(rng), u(rng), u(rng)) * 0.9, field_test_rotation(rng)};
-    Manifold reference;
-    const int nr = collide(box, pose_a, exact, pose_b, 0.0, reference);
-    const Real cell = field.sdf->cell_size();
-    if (nr == 0 || deepest_point_depth(reference, nr) < cell ||
-        deepest_point_depth(reference, nr) > 2 * cell)
-      continue;
-    Manifold m;
-    const int n = collide(box, pose_a, field, pose_b, 0.0, m);
-    ASSERT_GT(n, 0) << i;
-    ++compared;
-    worst =
-        std::max(worst, std::abs(deepest_point_depth(m, n) - deepest_point_depth(reference, nr)));
-  }
+  const auto [compared, worst] = box_into_field_box(field, Vec3(0.5, 0.4, 0.3), 15);
   std::printf("%d contacts, deepest point within %.3g m\n", compared, worst);
-  EXPECT_GT(compared, cases / 50);
+  EXPECT_GT(compared, scaled(10000) / 50);
   EXPECT_LT(worst, field.sdf->cell_size()) << "largest depth error " << worst << " m";
 }
 
@@ -248,35 +260,9 @@ TEST(SdfContact, BoxIntoAFieldBoxMatchesTheBoxPairWithinACell) {
   // A box is met by points on its surface (corners exact, edges and faces at the field's point
   // spacing) and by the field's surface points inside it: the deepest point agrees with the
   // exact box-box pair within one cell of the field's grid.
-  std::mt19937_64 rng(13);
-  std::uniform_real_distribution<Real> u(-1, 1);
-  const Vec3 half(0.5, 0.4, 0.3);
-  const Shape field = sdf_shape(SdfNode::box(half));
-  const Shape exact = Shape::box(half);
-  const Shape box = Shape::box(Vec3(0.2, 0.3, 0.25));
-  const int cases = scaled(10000);
-  int compared = 0;
-  Real worst = 0;
-  for (int i = 0; i < cases; ++i) {
-    const Transform pose_b{Vec3::Zero(), field_test_rotation(rng)};
-    const Transform pose_a{Vec3(u(rng), u(rng), u(rng)) * 0.9, field_test_rotation(rng)};
-    Manifold reference;
-    const int nr = collide(box, pose_a, exact, pose_b, 0.0, reference);
-    // Apart, or shallower than the points' spacing can see (an edge crossing an edge), or deeper
-    // than resting contacts go, where "the" depth depends on the measure (the box pair's is the
-    // least overlap over the separating axes, the field's the deepest point's distance).
-    const Real cell = field.sdf->cell_size();
-    if (nr == 0 || deepest_point_depth(reference, nr) < cell ||
-        deepest_point_depth(reference, nr) > 2 * cell)
-      continue;
-    Manifold m;
-    const int n = collide(box, pose_a, field, pose_b, 0.0, m);
-    ASSERT_GT(n, 0) << i;
-    ++compared;
-    worst =
-        std::max(worst, std::abs(deepest_point_depth(m, n) - deepest_point_depth(reference, nr)));
-  }
-  EXPECT_GT(compared, cases / 50);
+  const Shape field = sdf_shape(SdfNode::box(Vec3(0.5, 0.4, 0.3)));
+  const auto [compared, worst] = box_into_field_box(field, Vec3(0.5, 0.4, 0.3), 13);
+  EXPECT_GT(compared, scaled(10000) / 50);
   EXPECT_LT(worst, field.sdf->cell_size()) << "largest depth error " << worst << " m";
 }
 

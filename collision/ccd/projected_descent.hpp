@@ -1,0 +1,55 @@
+// Projected gradient descent to the least of a function over a convex set (Rosen, "The gradient
+// projection method for nonlinear programming", J. SIAM 8, 1960), as the distances against
+// signed distance fields use it (collision/ccd/distance_between.cpp, field_distance.cpp): a step
+// against the gradient, projected back onto the set, then the least of a parabola fitted along
+// the segment to it (the value at both ends and the slope at the start), kept when the value
+// falls (the step then doubles if the whole segment was taken) and the step halved otherwise.
+// At the optimum the tangential derivative is zero, so an error e in the point is an error of
+// order e^2 in the value.
+#pragma once
+
+#include <algorithm>
+#include <utility>
+
+#include "collision/math.hpp"
+#include "collision/sdf/sdf_primitives.hpp"
+
+namespace tumble {
+
+// From `start` (in the set): `objective(x)` gives the value and gradient (an sdf::Sample),
+// `project(x)` the point of the set nearest x. Stops when the projected step vanishes (a
+// stationary point, or the gradient pointing straight out of the set), when the step falls below
+// 1e-14 of `size`, or after `max_steps` steps. Returns the point and its sample.
+template <class Objective, class Project>
+std::pair<Vec3, sdf::Sample> projected_descent(const Vec3& start, Real size, int max_steps,
+                                               const Objective& objective, const Project& project) {
+  Vec3 x = start;
+  sdf::Sample here = objective(x);
+  Real step = size / 8;
+  for (int iteration = 0; iteration < max_steps && step > size * Real(1e-14); ++iteration) {
+    const Vec3 d = project(Vec3(x - step * here.gradient)) - x;
+    if (!(d.norm() > size * Real(1e-15)))
+      break;
+    const Real slope = here.gradient.dot(d);
+    if (!(slope < 0)) {
+      step /= 2;  // not downhill (a kink, or rounding): a shorter step
+      continue;
+    }
+    const Real end = objective(Vec3(x + d)).distance;
+    const Real curvature = end - here.distance - slope;
+    const Real t = curvature > 0 ? std::min(Real(1), -slope / (2 * curvature)) : Real(1);
+    const Vec3 y = x + t * d;
+    const sdf::Sample there = objective(y);
+    if (!(there.distance < here.distance)) {
+      step /= 2;
+      continue;
+    }
+    x = y;
+    here = there;
+    if (t == 1)
+      step *= 2;  // the whole step was taken: there may be room for a longer one
+  }
+  return {x, here};
+}
+
+}  // namespace tumble
