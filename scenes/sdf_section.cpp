@@ -17,11 +17,12 @@ namespace {
 constexpr std::array<std::string_view, 13> kSdfKinds{
     "sphere", "box",   "capsule",      "cylinder",   "torus",        "plane", "grid",
     "neural", "union", "intersection", "difference", "smooth_union", "morph"};
-constexpr std::array<std::string_view, 5> kGridKeys{"file", "cell", "interpolation", "builder",
-                                                    "band"};
+constexpr std::array<std::string_view, 6> kGridKeys{"file",    "cell", "interpolation",
+                                                    "builder", "band", "refine"};
 constexpr std::array<std::string_view, 1> kNeuralKeys{"file"};
 constexpr RealSpec kCell{"a cell size in metres", "1e-6 to 1e3", 1e-6, 1e3};
 constexpr RealSpec kBandVoxels{"a band width in voxels", "1 to 64", 1, 64};
+constexpr IntSpec kRefine{"a whole refinement factor", "1 to 16", 1, GridRefinement::kMaxRefine};
 constexpr std::array<std::string_view, 1> kRadiusKeys{"radius"};
 constexpr std::array<std::string_view, 1> kHalfExtentsKeys{"half_extents"};
 constexpr std::array<std::string_view, 2> kRadiusLengthKeys{"radius", "half_length"};
@@ -226,6 +227,13 @@ SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) con
     fail(band->mark(), child(here, "band"),
          "'band' (voxels each side of the surface) is for grids built with builder: openvdb");
   const Real band_voxels = band != nullptr ? read_real(*band, child(here, "band"), kBandVoxels) : 3;
+  const Entry* refine_entry = params.find("refine");
+  if (refine_entry != nullptr && (vdb_file || openvdb))
+    fail(refine_entry->mark(), child(here, "refine"),
+         "'refine' (the band near the surface sampled that many times finer) is for grids built "
+         "with builder: tumble (a level set is all band)");
+  const int refine =
+      refine_entry != nullptr ? int(read_int(*refine_entry, child(here, "refine"), kRefine)) : 1;
   if (openvdb && !VdbLevelSet::available())
     fail(file->mark(), child(here, "file"),
          std::string(vdb_file ? "OpenVDB volumes (.vdb)" : "builder: openvdb") +
@@ -243,7 +251,8 @@ SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) con
       return SdfNode::from_level_set(
           VdbLevelSet::from_mesh(mesh.vertices, mesh.triangles, size, band_voxels), how);
     return SdfNode::from_grid(
-        std::make_shared<const SdfGrid>(SdfGrid::from_mesh(mesh.vertices, mesh.triangles, size)),
+        std::make_shared<const SdfGrid>(SdfGrid::from_mesh(mesh.vertices, mesh.triangles, size,
+                                                           SdfGrid::kBand + 1, nullptr, refine)),
         how);
   } catch (const ObjError& error) {
     fail(file->mark(), child(here, "file"), error.what());

@@ -17,9 +17,11 @@ def main():
     source, out = sys.argv[1], sys.argv[2]
     rows = list(csv.DictReader(open(source)))
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = {"analytic": "-", "mesh": "--", "openvdb": ":"}
-    names = {"analytic": "analytic grid", "mesh": "mesh grid", "openvdb": "OpenVDB level set"}
-    for origin in ("analytic", "mesh", "openvdb"):
+    styles = {"analytic": "-", "mesh": "--", "mesh_refined": "-.", "openvdb": ":"}
+    names = {"analytic": "analytic grid", "mesh": "mesh grid",
+             "mesh_refined": "mesh grid, 4x cells, band refined to the cell",
+             "openvdb": "OpenVDB level set"}
+    for origin in ("analytic", "mesh", "mesh_refined", "openvdb"):
         picked = [r for r in rows if r["source"] == origin]
         if not picked:
             continue

@@ -7,8 +7,8 @@
 #include <limits>
 #include <string>
 
-#include "collision/closest_point_on_triangle.hpp"
 #include "collision/sdf/closed_mesh.hpp"
+#include "collision/sdf/mesh_distance_band.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -57,11 +57,14 @@ SdfGrid::SdfGrid(const Vec3& origin, Real cell, std::array<int, 3> nodes, std::v
 
 SdfGrid SdfGrid::from_mesh(std::span<const Vec3> vertices,
                            std::span<const std::array<std::int32_t, 3>> triangles, Real cell,
-                           int margin_cells, BuildReport* report) {
+                           int margin_cells, BuildReport* report, int refine) {
   const auto start_time = std::chrono::steady_clock::now();
   require_closed_mesh(vertices, triangles, "SDF grid");
   if (!(cell > 0) || !std::isfinite(cell))
     throw Error("SDF grid: the cell size must be positive and finite");
+  if (refine < 1 || refine > GridRefinement::kMaxRefine)
+    throw Error("SDF grid: refine must be from 1 to " + std::to_string(GridRefinement::kMaxRefine) +
+                ", got " + std::to_string(refine));
   Aabb bounds;
   for (const Vec3& v : vertices)
     bounds.grow(v);
@@ -78,41 +81,22 @@ SdfGrid SdfGrid::from_mesh(std::span<const Vec3> vertices,
     if (count > kMaxNodes)
       throw Error("SDF grid: more than " + std::to_string(kMaxNodes) + " nodes; use larger cells");
   }
+  if (refine > 1)
+    GridRefinement::check_size(n, refine);
   const auto index = [&](int i, int j, int k) {
     return std::size_t(i) +
            std::size_t(n[0]) * (std::size_t(j) + std::size_t(n[1]) * std::size_t(k));
-  };
-  const auto node = [&](int i, int j, int k) {
-    return Vec3(origin + cell * Vec3(Real(i), Real(j), Real(k)));
   };
   std::vector<Real> distance(std::size_t(count), kInfinity);
   std::vector<std::uint8_t> fixed(std::size_t(count), 0);
 
   // The band: exact distances to the nearest triangle.
   const Real band = kBand * cell;
-  for (const auto& t : triangles) {
-    const Vec3& a = vertices[std::size_t(t[0])];
-    const Vec3& b = vertices[std::size_t(t[1])];
-    const Vec3& c = vertices[std::size_t(t[2])];
-    Aabb box;
-    box.grow(a);
-    box.grow(b);
-    box.grow(c);
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, int(std::floor((box.min[k] - band - origin[k]) / cell)));
-      hi[k] =
-          std::min(n[std::size_t(k)] - 1, int(std::ceil((box.max[k] + band - origin[k]) / cell)));
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-          const Vec3 p = node(x, y, z);
-          const Real d = (p - closest_point_on_triangle(p, a, b, c)).norm();
-          Real& slot = distance[index(x, y, z)];
-          slot = std::min(slot, d);
-        }
-  }
+  sdf::for_each_node_near_triangles(vertices, triangles, origin, cell, n, band,
+                                    [&](int x, int y, int z, Real d) {
+                                      Real& slot = distance[index(x, y, z)];
+                                      slot = std::min(slot, d);
+                                    });
   std::int64_t band_nodes = 0;
   for (std::size_t i = 0; i < distance.size(); ++i)
     if (distance[i] <= band) {
@@ -157,45 +141,9 @@ SdfGrid SdfGrid::from_mesh(std::span<const Vec3> vertices,
       }
     }
 
-  // The sign: parity of the crossings along each row in x, the row's line moved off the nodes by
-  // an irrational fraction of a cell so that it misses every edge and vertex.
-  const Real dy = cell * Real(1.4142135623730951e-4), dz = cell * Real(1.7320508075688772e-4);
-  struct Crossing {
-    std::size_t row;
-    Real x;
-  };
-  std::vector<Crossing> crossings;
-  for (const auto& t : triangles) {
-    const Vec3& a = vertices[std::size_t(t[0])];
-    const Vec3& b = vertices[std::size_t(t[1])];
-    const Vec3& c = vertices[std::size_t(t[2])];
-    const Real area = (b.y() - a.y()) * (c.z() - a.z()) - (c.y() - a.y()) * (b.z() - a.z());
-    if (area == 0)
-      continue;  // parallel to x: no row crosses it
-    const int j0 =
-        std::max(0, int(std::floor((std::min({a.y(), b.y(), c.y()}) - origin.y() - dy) / cell)));
-    const int j1 = std::min(
-        n[1] - 1, int(std::ceil((std::max({a.y(), b.y(), c.y()}) - origin.y() - dy) / cell)));
-    const int k0 =
-        std::max(0, int(std::floor((std::min({a.z(), b.z(), c.z()}) - origin.z() - dz) / cell)));
-    const int k1 = std::min(
-        n[2] - 1, int(std::ceil((std::max({a.z(), b.z(), c.z()}) - origin.z() - dz) / cell)));
-    for (int k = k0; k <= k1; ++k)
-      for (int j = j0; j <= j1; ++j) {
-        const Real y = origin.y() + cell * Real(j) + dy, z = origin.z() + cell * Real(k) + dz;
-        // Barycentric coordinates of (y, z) in the triangle's projection.
-        const Real u = ((b.y() - y) * (c.z() - z) - (c.y() - y) * (b.z() - z)) / area;
-        const Real v = ((c.y() - y) * (a.z() - z) - (a.y() - y) * (c.z() - z)) / area;
-        const Real w = 1 - u - v;
-        if (u < 0 || v < 0 || w < 0)
-          continue;
-        crossings.push_back({std::size_t(j) + std::size_t(n[1]) * std::size_t(k),
-                             u * a.x() + v * b.x() + w * c.x()});
-      }
-  }
-  std::sort(crossings.begin(), crossings.end(), [](const Crossing& p, const Crossing& q) {
-    return p.row != q.row ? p.row < q.row : p.x < q.x;
-  });
+  // The sign: parity of the crossings along each row in x.
+  const std::vector<sdf::RowCrossing> crossings =
+      sdf::row_crossings(vertices, triangles, origin, cell, n);
   for (std::size_t first = 0; first < crossings.size();) {
     std::size_t last = first;
     while (last < crossings.size() && crossings[last].row == crossings[first].row)
@@ -223,7 +171,14 @@ SdfGrid SdfGrid::from_mesh(std::span<const Vec3> vertices,
     if (!std::isfinite(v))
       throw Error("SDF grid: a node was left without a distance");
   SdfGrid grid(origin, cell, n, std::move(distance));
+  if (refine > 1)
+    grid.refinement_ = std::make_shared<const GridRefinement>(
+        GridRefinement::build(vertices, triangles, grid, refine));
   if (report != nullptr) {
+    if (grid.refinement_) {
+      report->refined_nodes = grid.refinement_->nodes();
+      report->refined_band_nodes = grid.refinement_->band_nodes();
+    }
     report->nodes = count;
     report->band_nodes = band_nodes;
     report->sweeps = sweeps;
@@ -240,6 +195,9 @@ Aabb SdfGrid::box() const {
 }
 
 sdf::Sample SdfGrid::sample(const Vec3& p, GridInterpolation how) const {
+  sdf::Sample fine;
+  if (refinement_ && refinement_->sample(p, how, fine))
+    return fine;
   const Aabb b = box();
   const Vec3 q = p.cwiseMax(b.min).cwiseMin(b.max);
   if (q == p)

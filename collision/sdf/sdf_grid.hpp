@@ -15,6 +15,10 @@
 //    closed and consistently oriented (every edge run once each way by two triangles), which the
 //    build checks and refuses otherwise.
 //
+// Refinement (`refine` > 1): the band near the surface sampled that many times finer, in blocks
+// of nodes that exist only near the surface (collision/sdf/grid_refinement.hpp); a point whose
+// stencil lies in the refined band is sampled there, any other on the grid.
+//
 // Interpolation: trilinear (C0; its gradient is piecewise, exact for the interpolant) or tricubic
 // (Catmull-Rom in each axis, C1: the gradient is continuous across cells, so contacts sliding
 // over cell faces do not feel the grid). Outside the grid the value is the boundary's plus the
@@ -23,12 +27,14 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "collision/aabb.hpp"
 #include "collision/math.hpp"
 #include "collision/sdf/grid_interpolation.hpp"
+#include "collision/sdf/grid_refinement.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 
 namespace tumble {
@@ -42,16 +48,21 @@ class SdfGrid {
     std::int64_t nodes = 0;
     std::int64_t band_nodes = 0;  // nodes given their exact distance
     int sweeps = 0;
+    std::int64_t refined_nodes = 0;       // nodes of the refined band's blocks
+    std::int64_t refined_band_nodes = 0;  // of those, given their exact distance
     double seconds = 0;
     std::size_t bytes = 0;
   };
 
   // From a closed mesh (vertices and counter-clockwise triangles seen from outside) with cells of
   // `cell` metres; the grid covers the mesh's box grown by `margin_cells` cells (at least the
-  // band). Throws tumble::Error for an empty or open mesh, a cell not positive, or too many nodes.
+  // band), its band near the surface `refine` times finer when refine > 1. Throws tumble::Error
+  // for an empty or open mesh, a cell not positive, too many nodes, or refine outside 1 to
+  // GridRefinement::kMaxRefine.
   static SdfGrid from_mesh(std::span<const Vec3> vertices,
                            std::span<const std::array<std::int32_t, 3>> triangles, Real cell,
-                           int margin_cells = kBand + 1, BuildReport* report = nullptr);
+                           int margin_cells = kBand + 1, BuildReport* report = nullptr,
+                           int refine = 1);
 
   // From values at the nodes: node (i, j, k) at origin + cell (i, j, k), x fastest.
   SdfGrid(const Vec3& origin, Real cell, std::array<int, 3> nodes, std::vector<Real> values);
@@ -67,7 +78,11 @@ class SdfGrid {
   const std::array<int, 3>& nodes() const { return nodes_; }
   // The grid's box; phi <= 0 only inside it.
   Aabb box() const;
-  std::size_t bytes() const { return values_.size() * sizeof(Real); }
+  std::size_t bytes() const {
+    return values_.size() * sizeof(Real) + (refinement_ ? refinement_->bytes() : 0);
+  }
+  // The refined band, or null.
+  const GridRefinement* refinement() const { return refinement_.get(); }
 
  private:
   sdf::Sample inside_sample(const Vec3& p, GridInterpolation how) const;
@@ -75,6 +90,7 @@ class SdfGrid {
   Real cell_ = 1;
   std::array<int, 3> nodes_{1, 1, 1};
   std::vector<Real> values_;
+  std::shared_ptr<const GridRefinement> refinement_;
 };
 
 }  // namespace tumble

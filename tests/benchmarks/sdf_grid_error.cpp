@@ -1,11 +1,12 @@
 // The error of grid SDFs against the analytic field they stand for, by cell size (docs/sdf.md,
 // "Grids"; plotted by scripts/sdf_grid_figure.py). A torus (ring 0.4 m, tube 0.15 m) is gridded
-// three ways: from its exact distance at the nodes (the interpolation's own error), from a closed
-// triangle mesh of it (192 x 96 quads: the mesh's chords add up to 0.08 mm), and from the same
-// mesh as an OpenVDB narrow-band level set (when the build has OpenVDB; its band covers the 5 cm),
-// then sampled trilinearly and tricubically at 20,000 fixed random points within 5 cm of the
-// surface. Prints CSV: source, cell [m], nodes (a level set's active voxels), build seconds,
-// bytes, max and mean error of each interpolation [m].
+// four ways: from its exact distance at the nodes (the interpolation's own error), from a closed
+// triangle mesh of it (192 x 96 quads: the mesh's chords add up to 0.08 mm), from the same mesh
+// with cells four times as large and the band near the surface refined to the cell
+// (collision/sdf/grid_refinement.hpp), and from the same mesh as an OpenVDB narrow-band level set
+// (when the build has OpenVDB; its band covers the 5 cm), then sampled trilinearly and tricubically
+// at 20,000 fixed random points within 5 cm of the surface. Prints CSV: source, cell [m], nodes (a
+// level set's active voxels), build seconds, bytes, max and mean error of each interpolation [m].
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -58,7 +59,7 @@ int main() {
   std::printf(
       "source,cell,nodes,build_seconds,bytes,trilinear_max,trilinear_mean,tricubic_max,"
       "tricubic_mean\n");
-  for (const char* source : {"analytic", "mesh", "openvdb"}) {
+  for (const char* source : {"analytic", "mesh", "mesh_refined", "openvdb"}) {
     if (std::string(source) == "openvdb" && !VdbLevelSet::available())
       continue;
     for (Real cell : {0.08, 0.04, 0.02, 0.01, 0.005}) {
@@ -72,6 +73,9 @@ int main() {
         grid = sampled_grid(cell);
       else if (std::string(source) == "mesh")
         grid = SdfGrid::from_mesh(vertices, triangles, cell, cover, &report);
+      else if (std::string(source) == "mesh_refined")  // cells 4 times larger, the band `cell`
+        grid = SdfGrid::from_mesh(vertices, triangles, 4 * cell,
+                                  int(std::ceil(0.05 / (4 * cell))) + 2, &report, 4);
       else
         level_set = VdbLevelSet::from_mesh(vertices, triangles, cell, Real(std::min(cover, 64)));
       const double seconds =
@@ -90,7 +94,8 @@ int main() {
         sum[1] += e1;
       }
       const std::int64_t nodes =
-          grid ? std::int64_t(grid->nodes()[0]) * grid->nodes()[1] * grid->nodes()[2]
+          grid ? std::int64_t(grid->nodes()[0]) * grid->nodes()[1] * grid->nodes()[2] +
+                     (grid->refinement() ? grid->refinement()->nodes() : 0)
                : level_set->active_voxels();
       const std::size_t bytes = grid ? grid->bytes() : level_set->bytes();
       std::printf("%s,%g,%lld,%.4f,%zu,%.3e,%.3e,%.3e,%.3e\n", source, cell, (long long)nodes,

@@ -3,6 +3,7 @@
 // line and field.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -107,6 +108,18 @@ TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
   EXPECT_NEAR(grid.distance(Vec3(0.4, 0, 0)), -0.1, 1e-9);
   EXPECT_NEAR(grid.distance(Vec3(0, 0.6, 0)), 0.1, 1e-9);
   EXPECT_LT(grid.distance(Vec3(0, 0, 0)), -0.4);  // the centre, swept from the band
+  // Refined 5 times near the surface: exact at the fine nodes within its band (1 cm cells, 3 a
+  // side). Beside an edge the distance is round, which the 5 cm cells alone interpolate 5 mm off
+  // at (0.51, 0.52, 0).
+  const SdfNode refined_node = load_sdf_string(
+      "{grid: {file: sdf/cube.obj, cell: 0.05, interpolation: trilinear, refine: 5}}", data);
+  ASSERT_NE(refined_node.grid, nullptr);
+  ASSERT_NE(refined_node.grid->refinement(), nullptr);
+  EXPECT_EQ(refined_node.grid->refinement()->refine(), 5);
+  const SdfTree refined(refined_node);
+  EXPECT_NEAR(refined.distance(Vec3(0.51, 0.52, 0)), std::hypot(0.01, 0.02), 1e-9);
+  EXPECT_GT(std::abs(grid.distance(Vec3(0.51, 0.52, 0)) - std::hypot(0.01, 0.02)), 1e-3);
+  EXPECT_NEAR(refined.distance(Vec3(0.48, 0.13, -0.21)), -0.02, 1e-9);
   const SdfTree net(load_sdf_string("{neural: {file: neural/torus_sdf.json}}", data));
   // The committed fit: a torus of ring 0.6 m and tube 0.2 m, trained near its surface
   // (tests/data/neural/README.md: 5.7 mm at worst there); deep inside and far out, only signs.
@@ -129,6 +142,12 @@ TEST(SdfYaml, GridAndNeuralNodesReadTheirFiles) {
          "builder: openvdb");
   expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, builder: openvdb, band: 100}}",
          "sdf.grid.band", "1 to 64");
+  expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, refine: 17}}", "sdf.grid.refine",
+         "1 to 16");
+  expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, refine: 2.5}}", "sdf.grid.refine",
+         "whole");
+  expect("{grid: {file: meshes/bowl_closed.obj, cell: 0.1, builder: openvdb, refine: 2}}",
+         "sdf.grid.refine", "builder: tumble");
   expect("{neural: {file: nothing.json}}", "sdf.neural.file", "nothing.json");
 }
 
