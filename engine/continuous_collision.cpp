@@ -52,25 +52,18 @@ Aabb motion_box(const Shape& shape, const RigidMotion& m, Real radius) {
 }  // namespace
 
 ContinuousCollision::ContinuousCollision(const Scene& scene) {
+  rebuild(scene);
+}
+
+void ContinuousCollision::rebuild(const Scene& scene) {
+  enabled_ = false;
   const std::size_t n = scene.bodies.size();
-  thickness_.resize(n);
-  radius_.resize(n);
-  turning_radius_.resize(n);
-  about_own_axis_.resize(n);
-  swept_.resize(n);
-  earliest_.resize(n);
-  hit_partner_.resize(n);
-  hit_normal_.resize(n);
-  motions_.resize(n);
-  plan_from_.resize(n);
-  move_time_.resize(n);
-  moving_on_.resize(n);
-  hit_this_round_.resize(n);
+  // Each table cleared then sized: the same elements as a new one's, in the storage it has.
+  const auto fresh = [n](auto&... tables) { (..., (tables.clear(), tables.resize(n))); };
+  fresh(thickness_, radius_, turning_radius_, about_own_axis_, swept_, earliest_, hit_partner_,
+        hit_normal_, motions_, plan_from_, move_time_, moving_on_, hit_this_round_, group_box_,
+        group_hit_, moved_on_, swept_boxes_);
   group_of_.assign(n, -1);
-  group_box_.resize(n);
-  group_hit_.resize(n);
-  moved_on_.resize(n);
-  swept_boxes_.resize(n);
   swept_list_.reserve(n);
   found_.reserve(n);
   entries_.reserve(n);

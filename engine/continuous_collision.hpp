@@ -72,6 +72,8 @@ struct ContinuousCollisionCounts {
 class ContinuousCollision {
  public:
   explicit ContinuousCollision(const Scene& scene);
+  // For another scene (a world's reset), keeping the tables' storage.
+  void rebuild(const Scene& scene);
 
   // True when the scene can ever need the stage (`ccd` not off and some dynamic body).
   bool enabled() const { return enabled_; }

@@ -140,11 +140,15 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
     field_changes_[i] = shape.type == ShapeType::sdf && shape.sdf->changes_with_time();
   }
   kinematic_start_.resize(kinematic_bodies_.size());
-  initial_state_ = initial_state(*scene_);
+  initial_state_into(*scene_, initial_state_);
   choose_penalty_substeps();
-  continuous_.reset();
-  if (auto ccd = std::make_unique<ContinuousCollision>(*scene_); ccd->enabled())
-    continuous_ = std::move(ccd);
+  // The tables are kept across resets (a world reset to a drawn model of the same bodies
+  // allocates none); `sweeps_` says whether this scene uses them.
+  if (continuous_)
+    continuous_->rebuild(*scene_);
+  else
+    continuous_ = std::make_unique<ContinuousCollision>(*scene_);
+  sweeps_ = continuous_->enabled();
 }
 
 bool Simulation::can_reset_to(const Model& model) const {
@@ -623,7 +627,7 @@ void Simulation::update_sleep(Real dt) {
 // update_bounds) to where the solver put them; the stage is reported as run only in steps where a
 // swept body had a candidate to be tested against.
 void Simulation::sweep_fast_bodies() {
-  if (!continuous_)
+  if (!sweeps_)
     return;
   const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
   StageTimer timer(current_, ticks_, Stage::continuous);
@@ -708,7 +712,7 @@ void Simulation::update_bounds(Real dt) {
     Real reach =
         dt * (b.velocity.norm() + gravity_speed + b.angular_velocity.norm() * bounding_radii_[i]);
     // A kinematic body is not swept (nothing stops it), so its box covers its whole motion.
-    if (continuous_ && !model_->is_kinematic(i))
+    if (sweeps_ && !model_->is_kinematic(i))
       reach = std::min(reach, continuous_->sweep_threshold(i));
     speculative_margin_[i] = half_margin + reach;
     broad_phase_->update(

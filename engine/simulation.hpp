@@ -247,9 +247,10 @@ class Simulation {
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
   Islands islands_;
-  std::vector<std::uint8_t> island_awake_;           // per root body
-  std::vector<Real> island_slow_time_;               // per root body: the least of its bodies'
-  std::unique_ptr<ContinuousCollision> continuous_;  // null when the scene never sweeps
+  std::vector<std::uint8_t> island_awake_;  // per root body
+  std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
+  std::unique_ptr<ContinuousCollision> continuous_;
+  bool sweeps_ = false;  // whether the scene ever sweeps a body (continuous_ then holds its tables)
 
   StepStatistics current_;
   StepTicks ticks_;  // the stage timers' counts during a step, in current_ at its end

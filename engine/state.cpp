@@ -7,6 +7,14 @@ namespace tumble {
 
 State initial_state(const Scene& scene) {
   State s;
+  initial_state_into(scene, s);
+  return s;
+}
+
+void initial_state_into(const Scene& scene, State& s) {
+  s.time = 0;
+  s.step = 0;
+  s.bodies.clear();
   s.bodies.reserve(scene.bodies.size());
   for (const BodyDesc& d : scene.bodies) {
     BodyState b;
@@ -16,11 +24,15 @@ State initial_state(const Scene& scene) {
     b.angular_velocity = d.angular_velocity;
     s.bodies.push_back(b);
   }
+  s.contacts.clear();
+  s.manifolds.clear();
+  s.box_axes.clear();
+  s.gjk_caches.clear();
+  s.hull_axes.clear();
   s.slow_time.assign(scene.bodies.size(), 0);
   s.asleep.assign(scene.bodies.size(), 0);
   s.substep_level.assign(scene.bodies.size(), 0);
   s.substep_hold.assign(scene.bodies.size(), 0);
-  return s;
 }
 
 namespace {

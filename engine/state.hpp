@@ -53,6 +53,9 @@ struct State {
 
 // The state a scene starts in: bodies where the scene puts them, an empty contact cache.
 State initial_state(const Scene& scene);
+// The same, written into `state` (its arrays keep their storage: a world's reset allocates
+// nothing here).
+void initial_state_into(const Scene& scene, State& state);
 
 // A stable 64-bit hash of the state (FNV-1a over the bit patterns of every field, in a fixed
 // order and byte order), equal across runs, thread counts and machines with IEEE doubles.
