@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "collision/shapes/surface_mesh.hpp"
 #include "renders/camera_framing.hpp"
-#include "renders/mesh.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 // Mesa's OSMesa keeps framebuffer records it never frees (a list that lives until exit); they
@@ -116,7 +116,7 @@ struct DrawMesh {
   std::vector<GLuint> indices;
 };
 
-DrawMesh to_draw_mesh(const Mesh& mesh) {
+DrawMesh to_draw_mesh(const SurfaceMesh& mesh) {
   DrawMesh d;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     for (int k = 0; k < 3; ++k) {

@@ -10,6 +10,11 @@
 # settings from bytes. The corpus grows in build/fuzz/corpus; FUZZ_SAVE_SEEDS=1 merges it back
 # into the .hex files (libFuzzer's -merge keeps one input per new feature).
 #
+# The long run: FUZZ_RUNS=N runs each target for N executions instead of a time, and
+# FUZZ_TARGETS="fuzz_sdf fuzz_query_file" picks targets (default: all), for example
+#
+#   FUZZ_RUNS=10000000 FUZZ_TARGETS="fuzz_sdf fuzz_query_file" scripts/fuzz.sh
+#
 # Prints per target: executions, coverage (edges), corpus size and findings. Exits non-zero on any
 # finding; each is kept in build/fuzz/findings/TARGET/ (crash-*, timeout-*, oom-*, leak-*), to be
 # replayed with `build/fuzz/tests/fuzz/TARGET FILE`; a fixed finding gets a regression test in the
@@ -21,6 +26,11 @@ root=$PWD
 build=${TUMBLE_FUZZ_BUILD:-build/fuzz}
 targets=(fuzz_scene_loader fuzz_query_file fuzz_obj_reader fuzz_ccd_query_file fuzz_narrow_phase
          fuzz_gjk_epa fuzz_ccd fuzz_short_scene fuzz_sdf)
+if [ -n "${FUZZ_TARGETS:-}" ]; then
+  read -r -a targets <<<"$FUZZ_TARGETS"
+fi
+budget=(-max_total_time="$seconds")
+if [ -n "${FUZZ_RUNS:-}" ]; then budget=(-runs="$FUZZ_RUNS"); fi
 
 clang=$(command -v clang++-14 || command -v clang++ || true)
 if [ -z "$clang" ]; then
@@ -81,7 +91,7 @@ run_target() {
   # -timeout: one input may take 60 s (a hang is a finding; a scene of several SDF bodies takes
   # 10 or more under the sanitizers); -rss_limit_mb: memory beyond 2 GB is a finding (a limit that
   # should have refused the input before allocating).
-  "$work/tests/fuzz/$target" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 \
+  "$work/tests/fuzz/$target" "${budget[@]}" -timeout=60 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
   local executions coverage corpus_size found
   executions=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1)
@@ -104,7 +114,7 @@ run_target() {
   fi
 }
 
-echo "== fuzzing, $seconds s per target, $(nproc) at a time =="
+echo "== fuzzing, ${FUZZ_RUNS:+$FUZZ_RUNS executions}${FUZZ_RUNS:-$seconds s} per target, $(nproc) at a time =="
 failed=0
 pids=()
 names=()

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -84,9 +85,13 @@ Real inner_radius(const Shape& s) {
   return s.half_extents.minCoeff();
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail&) {
+  return tessellate_box(s.half_extents);
+}
+
 }  // namespace
 
-const ShapeOps kBoxOps{"box",           support, world_aabb,      volume,      unit_inertia,
-                       bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kBoxOps{"box",           support, world_aabb,      volume,       unit_inertia,
+                       bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -75,9 +76,13 @@ Real inner_radius(const Shape& s) {
   return s.radius;
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_capsule(s.radius, s.half_length, detail);
+}
+
 }  // namespace
 
-const ShapeOps kCapsuleOps{"capsule",       support, world_aabb,      volume,      unit_inertia,
-                           bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kCapsuleOps{"capsule",       support, world_aabb,      volume,       unit_inertia,
+                           bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

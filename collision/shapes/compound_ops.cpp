@@ -5,6 +5,7 @@
 
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -60,9 +61,13 @@ Real inner_radius(const Shape& s) {
   return thinnest;
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_compound(*s.compound, detail);
+}
+
 }  // namespace
 
-const ShapeOps kCompoundOps{"compound",      support, world_aabb,      volume,      unit_inertia,
-                            bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kCompoundOps{"compound",      support, world_aabb,      volume,       unit_inertia,
+                            bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

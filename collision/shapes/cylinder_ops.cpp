@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -84,9 +85,14 @@ Real inner_radius(const Shape& s) {
   return std::min(s.radius, s.half_length);
 }
 
+// Drawn from its support map (no dedicated mesh).
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_convex_support(s, detail);
+}
+
 }  // namespace
 
-const ShapeOps kCylinderOps{"cylinder",      support, world_aabb,      volume,      unit_inertia,
-                            bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kCylinderOps{"cylinder",      support, world_aabb,      volume,       unit_inertia,
+                            bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

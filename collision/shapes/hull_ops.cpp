@@ -5,6 +5,7 @@
 
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -114,9 +115,14 @@ Real inner_radius(const Shape& s) {
   return inner;
 }
 
+// Drawn from its support map: its vertices, joined by the icosphere's connectivity.
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_convex_support(s, detail);
+}
+
 }  // namespace
 
-const ShapeOps kHullOps{"hull",          support, world_aabb,      volume,      unit_inertia,
-                        bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kHullOps{"hull",          support, world_aabb,      volume,       unit_inertia,
+                        bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

@@ -5,6 +5,7 @@
 
 #include "collision/closest_point_on_triangle.hpp"
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
@@ -87,9 +88,13 @@ Real inner_radius(const Shape&) {
   return 0;
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail&) {
+  return tessellate_triangle_mesh(*s.mesh);
+}
+
 }  // namespace
 
-const ShapeOps kMeshOps{"mesh",          support, world_aabb,      volume,      unit_inertia,
-                        bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kMeshOps{"mesh",          support, world_aabb,      volume,       unit_inertia,
+                        bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

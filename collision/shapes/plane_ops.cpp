@@ -1,8 +1,10 @@
 // The plane's row of the shape table (collision/shapes/shape_ops.hpp): the solid half-space
 // z <= 0 of its frame; infinite, so only ever static.
 #include <limits>
+#include <stdexcept>
 
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -56,9 +58,13 @@ Real inner_radius(const Shape&) {
   return 0;
 }
 
+SurfaceMesh surface_mesh(const Shape&, const TessellationDetail&) {
+  throw std::invalid_argument("a plane has no mesh; the renderer draws it as a floor");
+}
+
 }  // namespace
 
-const ShapeOps kPlaneOps{"plane",         support, world_aabb,      volume,      unit_inertia,
-                         bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kPlaneOps{"plane",         support, world_aabb,      volume,       unit_inertia,
+                         bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

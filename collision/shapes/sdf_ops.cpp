@@ -6,6 +6,7 @@
 
 #include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -90,9 +91,13 @@ Real inner_radius(const Shape& s) {
   return s.sdf->inner_radius();
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_sdf(*s.sdf, 16 * detail.subdivision + 16);
+}
+
 }  // namespace
 
-const ShapeOps kSdfOps{"sdf",           support, world_aabb,      volume,      unit_inertia,
-                       bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kSdfOps{"sdf",           support, world_aabb,      volume,       unit_inertia,
+                       bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

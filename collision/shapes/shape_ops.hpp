@@ -14,6 +14,9 @@
 
 namespace tumble {
 
+struct SurfaceMesh;
+struct TessellationDetail;
+
 struct ShapeRayHit {
   bool hit = false;
   // Where along the ray the surface is first met: point = origin + fraction * delta, in [0, 1].
@@ -39,6 +42,9 @@ struct ShapeOps {
   // Radius of a ball about the local origin (the centre of mass) that lies inside the shape: how
   // far the shape can move before it could pass through something thin (continuous collision).
   Real (*inner_radius)(const Shape& shape);
+  // The surface as triangles, local frame (collision/shapes/surface_mesh.hpp); throws
+  // std::invalid_argument for an unbounded shape.
+  SurfaceMesh (*surface_mesh)(const Shape& shape, const TessellationDetail& detail);
 };
 
 const ShapeOps& shape_ops(ShapeType type);

@@ -2,6 +2,7 @@
 #include <numbers>
 
 #include "collision/shapes/shape_rows.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -44,9 +45,13 @@ Real inner_radius(const Shape& s) {
   return s.radius;
 }
 
+SurfaceMesh surface_mesh(const Shape& s, const TessellationDetail& detail) {
+  return tessellate_sphere(s.radius, detail);
+}
+
 }  // namespace
 
-const ShapeOps kSphereOps{"sphere",        support, world_aabb,      volume,      unit_inertia,
-                          bounding_radius, ray,     signed_distance, inner_radius};
+const ShapeOps kSphereOps{"sphere",        support, world_aabb,      volume,       unit_inertia,
+                          bounding_radius, ray,     signed_distance, inner_radius, surface_mesh};
 
 }  // namespace tumble

@@ -134,3 +134,22 @@ def test_shards_step_the_worlds_of_the_whole_env():
             np.testing.assert_array_equal(w[k], np.concatenate([h[k], t[k]]))
     with pytest.raises(ValueError):
         PushBoxEnv(num_envs=2, first_env=-1)
+
+
+def test_the_reset_benchmarks_scene_is_the_environments_world():
+    # tests/benchmarks/bench_reset times PushBoxEnv's resets on a copy of its world in
+    # tests/data/scenes/push_box.yaml: the same bodies and the same draws, step for step.
+    import os
+
+    import tumble
+    from tumble import envs
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    copy = tumble.load_scene(os.path.join(here, "..", "..", "tests", "data", "scenes",
+                                          "push_box.yaml"))
+    env_scene = tumble.load_scene_text(envs._SCENE.format(randomize=envs._RANDOMIZE), "env.yaml")
+    for seed in (0, 1, 17):
+        worlds = [tumble.World(tumble.randomized(s, seed)) for s in (copy, env_scene)]
+        for w in worlds:
+            w.step(30)
+        assert worlds[0].state_hash() == worlds[1].state_hash()

@@ -19,7 +19,8 @@ TEST(ShapeOps, OneRowPerTypeInTypeOrder) {
     EXPECT_EQ(row.name, names[t]);
     EXPECT_EQ(shape_type_name(static_cast<ShapeType>(t)), names[t]);
     EXPECT_TRUE(row.support && row.world_aabb && row.volume && row.unit_inertia &&
-                row.bounding_radius && row.ray && row.signed_distance && row.inner_radius)
+                row.bounding_radius && row.ray && row.signed_distance && row.inner_radius &&
+                row.surface_mesh)
         << names[t];
   }
   EXPECT_EQ(shape_type_name(static_cast<ShapeType>(kShapeTypeCount)), "unknown");

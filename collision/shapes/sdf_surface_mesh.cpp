@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "collision/shapes/sdf_shape.hpp"
-#include "renders/mesh.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 
-namespace tumble::render {
+namespace tumble {
 namespace {
 
 // The six tetrahedra of a cube around the diagonal from corner 0 to corner 7 (corner bits: x = 1,
@@ -28,7 +28,7 @@ Vec3 crossing(const Corner& a, const Corner& b) {
   return a.position + t * (b.position - a.position);
 }
 
-void add_triangle(const SdfShape& field, Mesh& mesh, Vec3 p0, Vec3 p1, Vec3 p2) {
+void add_triangle(const SdfShape& field, SurfaceMesh& mesh, Vec3 p0, Vec3 p1, Vec3 p2) {
   // Wind outward: the face normal along the field's gradient at the centroid.
   const Vec3 face = (p1 - p0).cross(p2 - p0);
   if (face.squaredNorm() == 0)
@@ -43,7 +43,8 @@ void add_triangle(const SdfShape& field, Mesh& mesh, Vec3 p0, Vec3 p1, Vec3 p2) 
   }
 }
 
-void polygonize_tetrahedron(const SdfShape& field, const std::array<Corner, 4>& c, Mesh& mesh) {
+void polygonize_tetrahedron(const SdfShape& field, const std::array<Corner, 4>& c,
+                            SurfaceMesh& mesh) {
   std::array<int, 4> inside{}, outside{};
   int n_in = 0, n_out = 0;
   for (int k = 0; k < 4; ++k) {
@@ -72,8 +73,8 @@ void polygonize_tetrahedron(const SdfShape& field, const std::array<Corner, 4>& 
 
 }  // namespace
 
-Mesh tessellate_sdf(const SdfShape& field, int cells) {
-  Mesh mesh;
+SurfaceMesh tessellate_sdf(const SdfShape& field, int cells) {
+  SurfaceMesh mesh;
   const Aabb& box = field.local_bounds();
   const Vec3 size = box.max - box.min;
   const Real h = size.maxCoeff() / Real(cells);
@@ -114,4 +115,4 @@ Mesh tessellate_sdf(const SdfShape& field, int cells) {
   return mesh;
 }
 
-}  // namespace tumble::render
+}  // namespace tumble

@@ -1,4 +1,5 @@
-#include "renders/mesh.hpp"
+// Tessellations of shapes (collision/shapes/surface_mesh.hpp).
+#include "collision/shapes/surface_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +10,14 @@
 #include <utility>
 
 #include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/shape.hpp"
+#include "collision/shapes/shape_ops.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 
-namespace tumble::render {
+namespace tumble {
 namespace {
 
-void add_triangle(Mesh& mesh, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+void add_triangle(SurfaceMesh& mesh, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
   mesh.indices.push_back(a);
   mesh.indices.push_back(b);
   mesh.indices.push_back(c);
@@ -29,8 +32,8 @@ struct Ring {
   Real z_offset;
 };
 
-Mesh revolve(Real radius, const std::vector<Ring>& rings, int segments) {
-  Mesh mesh;
+SurfaceMesh revolve(Real radius, const std::vector<Ring>& rings, int segments) {
+  SurfaceMesh mesh;
   const int columns = segments + 1;  // the seam column is duplicated so texture-free rows close
   for (const Ring& ring : rings) {
     const Real c = std::cos(ring.latitude);
@@ -64,13 +67,13 @@ std::vector<Ring> hemisphere_rings(int count, Real first, Real last, Real z_offs
 
 }  // namespace
 
-Mesh tessellate_sphere(Real radius, const TessellationDetail& detail) {
+SurfaceMesh tessellate_sphere(Real radius, const TessellationDetail& detail) {
   const int segments = std::max(detail.segments, 6);
   const Real half_pi = std::numbers::pi_v<Real> / 2;
   return revolve(radius, hemisphere_rings(segments / 2, -half_pi, half_pi, 0), segments);
 }
 
-Mesh tessellate_capsule(Real radius, Real half_length, const TessellationDetail& detail) {
+SurfaceMesh tessellate_capsule(Real radius, Real half_length, const TessellationDetail& detail) {
   const int segments = std::max(detail.segments, 6);
   const Real half_pi = std::numbers::pi_v<Real> / 2;
   std::vector<Ring> rings = hemisphere_rings(segments / 4, -half_pi, 0, -half_length);
@@ -79,8 +82,8 @@ Mesh tessellate_capsule(Real radius, Real half_length, const TessellationDetail&
   return revolve(radius, rings, segments);
 }
 
-Mesh tessellate_box(const Vec3& half_extents) {
-  Mesh mesh;
+SurfaceMesh tessellate_box(const Vec3& half_extents) {
+  SurfaceMesh mesh;
   for (int axis = 0; axis < 3; ++axis) {
     for (const Real sign : {Real(-1), Real(1)}) {
       Vec3 n = Vec3::Zero();
@@ -138,7 +141,7 @@ void icosphere(int subdivision, std::vector<Vec3>& directions,
   }
 }
 
-Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& detail) {
+SurfaceMesh tessellate_convex_support(const Shape& shape, const TessellationDetail& detail) {
   if (!shape.is_bounded()) {
     throw std::invalid_argument("cannot tessellate an unbounded " +
                                 std::string(shape_type_name(shape.type)) + " shape");
@@ -154,7 +157,7 @@ Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& det
   const Real smooth_cosine = std::cos(Real(25) * std::numbers::pi_v<Real> / 180);
   const Real scale = bounding_radius(shape);
   const Real min_double_area = Real(1e-10) * scale * scale;
-  Mesh mesh;
+  SurfaceMesh mesh;
   for (std::size_t i = 0; i < triangles.size(); i += 3) {
     std::uint32_t corner[3] = {triangles[i], triangles[i + 1], triangles[i + 2]};
     Vec3 face =
@@ -176,11 +179,8 @@ Mesh tessellate_convex_support(const Shape& shape, const TessellationDetail& det
   return mesh;
 }
 
-namespace {
-
-// A triangle mesh as it is: its own triangles, flat shaded (each corner carries the face normal).
-Mesh tessellate_triangle_mesh(const TriangleMesh& source) {
-  Mesh mesh;
+SurfaceMesh tessellate_triangle_mesh(const TriangleMesh& source) {
+  SurfaceMesh mesh;
   for (int t = 0; t < source.triangle_count(); ++t) {
     for (int k = 0; k < 3; ++k) {
       mesh.indices.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
@@ -191,46 +191,26 @@ Mesh tessellate_triangle_mesh(const TriangleMesh& source) {
   return mesh;
 }
 
-}  // namespace
-
-Mesh tessellate(const Shape& shape, const TessellationDetail& detail) {
-  // One case per type with a dedicated mesh; every other bounded convex type (cylinder, hull)
-  // is drawn from its support map. The support map of a non-convex shape gives its convex hull,
-  // so meshes and compounds have their own cases: their triangles, their parts' meshes.
-  switch (shape.type) {
-    case ShapeType::mesh:
-      return tessellate_triangle_mesh(*shape.mesh);
-    case ShapeType::compound: {
-      Mesh mesh;
-      for (const CompoundPart& part : shape.compound->parts()) {
-        const Mesh piece = tessellate(part.shape, detail);
-        const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-        for (std::size_t i = 0; i < piece.positions.size(); ++i) {
-          mesh.positions.push_back(part.pose.apply(piece.positions[i]));
-          mesh.normals.push_back(part.pose.rotate(piece.normals[i]));
-        }
-        for (const std::uint32_t index : piece.indices)
-          mesh.indices.push_back(base + index);
-      }
-      return mesh;
+SurfaceMesh tessellate_compound(const CompoundShape& compound, const TessellationDetail& detail) {
+  SurfaceMesh mesh;
+  for (const CompoundPart& part : compound.parts()) {
+    const SurfaceMesh piece = tessellate(part.shape, detail);
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    for (std::size_t i = 0; i < piece.positions.size(); ++i) {
+      mesh.positions.push_back(part.pose.apply(piece.positions[i]));
+      mesh.normals.push_back(part.pose.rotate(piece.normals[i]));
     }
-    case ShapeType::sphere:
-      return tessellate_sphere(shape.radius, detail);
-    case ShapeType::box:
-      return tessellate_box(shape.half_extents);
-    case ShapeType::capsule:
-      return tessellate_capsule(shape.radius, shape.half_length, detail);
-    case ShapeType::sdf:
-      return tessellate_sdf(*shape.sdf, 16 * detail.subdivision + 16);
-    case ShapeType::plane:
-      throw std::invalid_argument("a plane has no mesh; the renderer draws it as a floor");
-    default:
-      break;
+    for (const std::uint32_t index : piece.indices)
+      mesh.indices.push_back(base + index);
   }
-  return tessellate_convex_support(shape, detail);
+  return mesh;
 }
 
-Real enclosed_volume(const Mesh& mesh) {
+SurfaceMesh tessellate(const Shape& shape, const TessellationDetail& detail) {
+  return shape_ops(shape.type).surface_mesh(shape, detail);
+}
+
+Real enclosed_volume(const SurfaceMesh& mesh) {
   Real six_volume = 0;
   for (std::size_t i = 0; i < mesh.indices.size(); i += 3) {
     const Vec3& a = mesh.positions[mesh.indices[i]];
@@ -241,4 +221,4 @@ Real enclosed_volume(const Mesh& mesh) {
   return six_volume / 6;
 }
 
-}  // namespace tumble::render
+}  // namespace tumble

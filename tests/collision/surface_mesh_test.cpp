@@ -11,16 +11,16 @@
 #include <stdexcept>
 
 #include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/surface_mesh.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
-#include "renders/mesh.hpp"
 #include "tests/property_scale.hpp"
 
-namespace tumble::render {
+namespace tumble {
 namespace {
 
 // Every triangle faces away from the centre of mass (true for convex shapes centred at the
 // origin) and every normal is unit and on the same side as its triangle's face.
-void expect_outward(const Mesh& mesh, const char* what) {
+void expect_outward(const SurfaceMesh& mesh, const char* what) {
   ASSERT_EQ(mesh.positions.size(), mesh.normals.size()) << what;
   ASSERT_EQ(mesh.indices.size() % 3, 0u) << what;
   ASSERT_GT(mesh.triangle_count(), 0) << what;
@@ -41,15 +41,15 @@ void expect_outward(const Mesh& mesh, const char* what) {
 
 // An inscribed polyhedron holds a little less than the shape; 3% is far more than 32 segments
 // or 3 icosphere subdivisions lose, far less than a missing or inverted patch.
-void expect_volume(const Mesh& mesh, const Shape& shape, const char* what) {
+void expect_volume(const SurfaceMesh& mesh, const Shape& shape, const char* what) {
   const Real v = enclosed_volume(mesh);
   EXPECT_LE(v, volume(shape) * (1 + 1e-9)) << what;
   EXPECT_GE(v, volume(shape) * 0.97) << what;
 }
 
-TEST(Mesh, SphereIsClosedOutwardAndOnTheSurface) {
+TEST(SurfaceMesh, SphereIsClosedOutwardAndOnTheSurface) {
   const Shape s = Shape::sphere(0.7);
-  const Mesh m = tessellate(s, {});
+  const SurfaceMesh m = tessellate(s, {});
   expect_outward(m, "sphere");
   expect_volume(m, s, "sphere");
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
@@ -58,9 +58,9 @@ TEST(Mesh, SphereIsClosedOutwardAndOnTheSurface) {
   }
 }
 
-TEST(Mesh, BoxIsExact) {
+TEST(SurfaceMesh, BoxIsExact) {
   const Shape s = Shape::box(Vec3(0.5, 0.2, 1.5));
-  const Mesh m = tessellate(s, {});
+  const SurfaceMesh m = tessellate(s, {});
   expect_outward(m, "box");
   EXPECT_EQ(m.triangle_count(), 12);
   EXPECT_NEAR(enclosed_volume(m), volume(s), 1e-12);
@@ -68,9 +68,9 @@ TEST(Mesh, BoxIsExact) {
     EXPECT_TRUE(((p.cwiseAbs() - s.half_extents).cwiseAbs().array() < 1e-15).all()) << p;
 }
 
-TEST(Mesh, CapsuleCoreRunsAlongZ) {
+TEST(SurfaceMesh, CapsuleCoreRunsAlongZ) {
   const Shape s = Shape::capsule(0.3, 0.8);
-  const Mesh m = tessellate(s, {});
+  const SurfaceMesh m = tessellate(s, {});
   expect_outward(m, "capsule");
   expect_volume(m, s, "capsule");
   Real top = -1;
@@ -83,18 +83,18 @@ TEST(Mesh, CapsuleCoreRunsAlongZ) {
   EXPECT_NEAR(top, 1.1, 1e-12);
 }
 
-TEST(Mesh, PlaneHasNoMesh) {
+TEST(SurfaceMesh, PlaneHasNoMesh) {
   EXPECT_THROW(tessellate(Shape::plane(), {}), std::invalid_argument);
   EXPECT_THROW(tessellate_convex_support(Shape::plane(), {}), std::invalid_argument);
 }
 
-TEST(Mesh, IcosphereIsAClosedUnitSphere) {
+TEST(SurfaceMesh, IcosphereIsAClosedUnitSphere) {
   std::vector<Vec3> d;
   std::vector<std::uint32_t> t;
   icosphere(2, d, t);
   EXPECT_EQ(d.size(), 162u);  // 10 * 4^n + 2
   EXPECT_EQ(t.size(), 3u * 320);
-  Mesh m;
+  SurfaceMesh m;
   m.positions = d;
   m.normals = d;
   m.indices = t;
@@ -104,7 +104,7 @@ TEST(Mesh, IcosphereIsAClosedUnitSphere) {
 // The generic path on random spheres, boxes and capsules: every vertex is a support point (on
 // the surface), the mesh winds outwards and holds the shape's volume. A box's support points
 // are its corners, so its generic mesh must be exact.
-TEST(Mesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
+TEST(SurfaceMesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
   std::mt19937_64 rng(20261122);
   std::uniform_real_distribution<Real> size(0.02, 3.0);
   const int cases = std::max(20, static_cast<int>(300 * property_scale()));
@@ -122,7 +122,7 @@ TEST(Mesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
         s = Shape::capsule(size(rng), size(rng));
         break;
     }
-    const Mesh m = tessellate_convex_support(s, detail);
+    const SurfaceMesh m = tessellate_convex_support(s, detail);
     const std::string what =
         "case " + std::to_string(i) + " " + std::string(shape_type_name(s.type));
     expect_outward(m, what.c_str());
@@ -141,14 +141,14 @@ TEST(Mesh, GenericSupportMeshMatchesEveryShapeItCanCompareWith) {
 }
 
 }  // namespace
-}  // namespace tumble::render
+}  // namespace tumble
 
-namespace tumble::render {
+namespace tumble {
 namespace {
 
 // A dumbbell (two boxes apart on x): its mesh holds both boxes, so it encloses their volume,
 // not the volume of their convex hull (the generic support-map path would give the hull).
-TEST(Mesh, CompoundIsItsPartsNotTheirHull) {
+TEST(SurfaceMesh, CompoundIsItsPartsNotTheirHull) {
   std::vector<CompoundPart> parts(2);
   parts[0].shape = Shape::box(Vec3(0.1, 0.1, 0.1));
   parts[0].pose.translation = Vec3(-1, 0, 0);
@@ -156,7 +156,7 @@ TEST(Mesh, CompoundIsItsPartsNotTheirHull) {
   parts[1].pose.translation = Vec3(1, 0, 0);
   const Shape s = Shape::compound_of(
       std::make_shared<const CompoundShape>(CompoundShape::build(std::move(parts))));
-  const Mesh m = tessellate(s, {});
+  const SurfaceMesh m = tessellate(s, {});
   EXPECT_EQ(m.triangle_count(), 24);
   EXPECT_NEAR(enclosed_volume(m), 2 * 0.008, 1e-12);
   Real x_min = 0, x_max = 0;
@@ -169,13 +169,13 @@ TEST(Mesh, CompoundIsItsPartsNotTheirHull) {
 }
 
 // A triangle mesh is drawn with its own triangles, each with its face normal.
-TEST(Mesh, TriangleMeshKeepsItsTriangles) {
+TEST(SurfaceMesh, TriangleMeshKeepsItsTriangles) {
   // A non-convex "V" of two triangles: its convex hull would be a tetrahedron-like solid.
   std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 1}, {1, 1, 1}, {-1, 0, 1}, {-1, 1, 1}, {0, 1, 0}};
   std::vector<TriangleMesh::Triangle> t = {{0, 1, 2}, {0, 2, 5}, {0, 3, 4}, {0, 4, 5}};
   const TriangleMesh source = TriangleMesh::build(v, t);
   const Shape s = Shape::triangle_mesh(std::make_shared<const TriangleMesh>(source));
-  const Mesh m = tessellate(s, {});
+  const SurfaceMesh m = tessellate(s, {});
   ASSERT_EQ(m.triangle_count(), source.triangle_count());
   for (int tri = 0; tri < m.triangle_count(); ++tri) {
     for (int k = 0; k < 3; ++k) {
@@ -187,4 +187,4 @@ TEST(Mesh, TriangleMeshKeepsItsTriangles) {
 }
 
 }  // namespace
-}  // namespace tumble::render
+}  // namespace tumble
