@@ -208,11 +208,17 @@ Shape shape_of(int kind) {
   }
 }
 
-// distance_between for a box against a sphere, a box, a cylinder and a hull (range 0..3), the
-// partner placed in a ring of poses half of which penetrate; with and without gradients.
+// distance_between for a box against a sphere, a box, a cylinder and a hull (range 0..3), and
+// against fields (4: a box and a torus field, 5: a field ball and a torus field, 6: a plane and a
+// torus field), the partner placed in a ring of poses half of which penetrate; with and without
+// gradients (for fields the gradients are grad phi at the optimum the distance needs anyway).
 void run_distance(benchmark::State& state, bool gradients) {
-  const Shape a = Shape::box(Vec3(0.5, 0.4, 0.3));
-  const Shape b = shape_of(int(state.range(0)));
+  const int kind = int(state.range(0));
+  const Shape torus = sdf_shape(SdfNode::torus(0.6, 0.2));
+  const Shape a = kind == 5   ? sdf_shape(SdfNode::sphere(0.3))
+                  : kind == 6 ? Shape::plane()
+                              : Shape::box(Vec3(0.5, 0.4, 0.3));
+  const Shape b = kind >= 4 ? torus : shape_of(kind);
   std::vector<Transform> poses;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<Real> u(-1, 1);
@@ -234,8 +240,8 @@ void BM_DistanceOnly(benchmark::State& state) {
 void BM_DistanceWithGradients(benchmark::State& state) {
   run_distance(state, true);
 }
-BENCHMARK(BM_DistanceOnly)->DenseRange(0, 3);
-BENCHMARK(BM_DistanceWithGradients)->DenseRange(0, 3);
+BENCHMARK(BM_DistanceOnly)->DenseRange(0, 6);
+BENCHMARK(BM_DistanceWithGradients)->DenseRange(0, 6);
 
 }  // namespace
 }  // namespace tumble
