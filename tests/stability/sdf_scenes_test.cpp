@@ -105,16 +105,23 @@ namespace {
 
 struct Rest {
   Vec3 box;
-  Vec3 capsule;
+  Vec3 capsule;  // mean over the fifth second
   Real box_tilt;
 };
 
 Rest rest_in_bowls(const char* file) {
   World world(sdf_scene(file));
-  world.step(1200);  // 5 s
+  world.step(960);  // 4 s
+  // The capsule's position averaged over the fifth second: where it rests, also when it still
+  // rocks about its axis (rolling, which nothing damps but friction's slip).
+  Vec3 capsule_mean = Vec3::Zero();
+  const BodyId capsule_id = world.body("capsule");
+  for (int i = 0; i < 240; ++i) {
+    world.step(1);
+    capsule_mean += world.body_state(capsule_id).position / 240;
+  }
   const BodyState box = world.body_state(world.body("box"));
-  const BodyState capsule = world.body_state(world.body("capsule"));
-  return {box.position, capsule.position,
+  return {box.position, capsule_mean,
           std::acos(std::min(Real(1), (box.orientation * Vec3::UnitZ()).z()))};
 }
 
@@ -131,13 +138,14 @@ TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
   EXPECT_LT((csg.box - Vec3(-1, 0, box_z)).norm(), 5e-4) << csg.box.transpose();
   EXPECT_LT((csg.capsule - Vec3(1, 0, capsule_z)).norm(), 5e-4) << csg.capsule.transpose();
   EXPECT_LT(csg.box_tilt, 1e-3);
-  // In the mesh bowl: the box within a millimetre of where it rests in the field's bowl. The
-  // capsule rests at the same height, but the facets' first touch gives it a sideways nudge and it
-  // rocks about its axis (rolling, hardly damped) by up to 1.7 mm: compared at that amplitude.
+  // In the mesh bowl: both within a millimetre of where they rest in the field's bowl. The
+  // facets' first touch nudges the capsule sideways and it still rocks about its axis in the fifth
+  // second (rolling, hardly damped; 1.2 mm off at the end, measured), about the same rest: its
+  // mean over that second is 0.55 mm from the field bowl's (0.52 mm of it in height, the facets'
+  // sag being 0.4 mm).
   EXPECT_LT((mesh.box - csg.box).norm(), 1e-3) << mesh.box.transpose();
   EXPECT_LT(mesh.box_tilt, 1e-3);
-  EXPECT_NEAR(mesh.capsule.z(), csg.capsule.z(), 1e-3);
-  EXPECT_LT((mesh.capsule - csg.capsule).head<2>().norm(), 2.5e-3) << mesh.capsule.transpose();
+  EXPECT_LT((mesh.capsule - csg.capsule).norm(), 1e-3) << mesh.capsule.transpose();
 }
 
 TEST(SdfScenes, BodiesRestInAnOpenVdbBowlWhereTheyRestInTheCsgBowl) {
