@@ -64,6 +64,14 @@ void ContinuousCollision::rebuild(const Scene& scene) {
         hit_normal_, motions_, plan_from_, move_time_, moving_on_, hit_this_round_, group_box_,
         group_hit_, moved_on_, swept_boxes_);
   group_of_.assign(n, -1);
+  // The per-run lists are empty after a run that finished; one that threw may have left some.
+  // The pair search chosen by set_pair_search is a setting, and stays.
+  grouped_.clear();
+  moving_on_list_.clear();
+  next_moving_on_.clear();
+  swept_list_.clear();
+  found_.clear();
+  entries_.clear();
   swept_list_.reserve(n);
   found_.reserve(n);
   entries_.reserve(n);

@@ -39,8 +39,9 @@ struct StepTicks {
     phase.fill(0);
     recycle = 0;
     recompute = 0;
-    start_time_ = std::chrono::steady_clock::now();
+    // The counter, then the clock, at both ends: the two intervals then differ by rounding only.
     start_ticks_ = read_ticks();
+    start_time_ = std::chrono::steady_clock::now();
   }
 
   // Writes the step's times into `stats` (adding to what is there).
@@ -48,8 +49,10 @@ struct StepTicks {
     const std::uint64_t end_ticks = read_ticks();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time_).count();
-    const std::uint64_t elapsed = end_ticks - start_ticks_;
-    const double seconds_per_tick = elapsed > 0 ? seconds / static_cast<double>(elapsed) : 0.0;
+    // A counter that went back (not kept in step across cores, as on some virtual machines)
+    // gives no times rather than wrapped ones.
+    const double seconds_per_tick =
+        end_ticks > start_ticks_ ? seconds / static_cast<double>(end_ticks - start_ticks_) : 0.0;
     for (int s = 0; s < kStageCount; ++s)
       stats.seconds[std::size_t(s)] +=
           static_cast<double>(stage[std::size_t(s)]) * seconds_per_tick;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "collision/sdf/sdf_tree.hpp"
@@ -331,8 +332,20 @@ PYBIND11_MODULE(_tumble, m) {
                                   "' (pass what tumble.distance returns)");
           return distance[key];
         };
+        // A value of the wrong type is a ValueError too, not pybind11's cast error.
+        const auto as = [](const py::object& value, const char* key, auto* type) {
+          using T = std::remove_pointer_t<decltype(type)>;
+          try {
+            return value.cast<T>();
+          } catch (const py::cast_error&) {
+            throw py::value_error(
+                std::string("contact_potential: ") + key +
+                (std::is_same_v<T, Real> ? " must be a number" : " must be 6 numbers"));
+          }
+        };
         const auto gradient = [&](const char* key) {
-          const std::vector<Real> v = number(key).cast<std::vector<Real>>();
+          const std::vector<Real> v =
+              as(number(key), key, static_cast<std::vector<Real>*>(nullptr));
           if (v.size() != 6)
             throw py::value_error(std::string("contact_potential: ") + key +
                                   " must have 6 numbers, got " + std::to_string(v.size()));
@@ -349,7 +362,7 @@ PYBIND11_MODULE(_tumble, m) {
         if (!(max_gradient > 0))
           throw py::value_error("contact_potential: max_gradient must be positive");
         tumble::ShapeDistance d;
-        d.distance = number("distance").cast<Real>();
+        d.distance = as(number("distance"), "distance", static_cast<Real*>(nullptr));
         if (!std::isfinite(d.distance))
           throw py::value_error("contact_potential: the distance must be finite");
         d.gradient_a = gradient("gradient_a");

@@ -114,7 +114,8 @@ run_target() {
   fi
 }
 
-echo "== fuzzing, ${FUZZ_RUNS:+$FUZZ_RUNS executions}${FUZZ_RUNS:-$seconds s} per target, $(nproc) at a time =="
+if [ -n "${FUZZ_RUNS:-}" ]; then per="$FUZZ_RUNS executions"; else per="$seconds s"; fi
+echo "== fuzzing, $per per target, $(nproc) at a time =="
 failed=0
 pids=()
 names=()

@@ -32,7 +32,8 @@ void check(const Shape& s, const Transform& pose, const char* side) {
   if (!is_convex(s.type) && s.type != ShapeType::plane && s.type != ShapeType::sdf)
     throw Error(std::string("distance_between: shape ") + side + " is a " +
                 std::string(shape_type_name(s.type)) +
-                "; only convex shapes (sphere, box, capsule, cylinder, hull) and planes");
+                "; only convex shapes (sphere, box, capsule, cylinder, hull), planes and signed "
+                "distance fields");
   if (!pose.translation.allFinite() || !pose.rotation.coeffs().allFinite())
     throw Error(std::string("distance_between: pose ") + side + " is not finite");
 }

@@ -49,7 +49,7 @@ struct SeedList {
 template <class F>
 void for_each_seed_candidate(const SdfShape& field, const Transform& pose, const F& f) {
   const int count = field.surface_point_count();
-  const int stride = std::max(1, count / kSeedCandidates);
+  const int stride = std::max(1, (count + kSeedCandidates - 1) / kSeedCandidates);
   for (int i = 0; i < count; i += stride)
     f(pose.apply(field.surface_point(i)));
 }

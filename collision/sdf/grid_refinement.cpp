@@ -98,63 +98,59 @@ GridRefinement GridRefinement::build(std::span<const Vec3> vertices,
                     " nodes; use larger cells or refine less");
       slot = std::int32_t(slots++);
     }
-  r.values_.assign(std::size_t(slots) * kBlockNodes, 0);
+  // The nodes within the band of a triangle first take their least distance to one (unsigned,
+  // in place: the values are the only node-sized array), then, block by block, its sign by the
+  // parity of their fine row's crossings; every other node of a block the coarse grid's value.
+  r.values_.assign(std::size_t(slots) * kBlockNodes, std::numeric_limits<Real>::infinity());
 
-  // Every node of a block starts at the coarse grid's value there; the band's nodes then get
-  // their exact distance, signed by the parity of their fine row's crossings.
   const auto node_index = [&](int i, int j, int k) -> std::int64_t {
     const std::int32_t slot = r.slot_of(i / kBlock, j / kBlock, k / kBlock);
     return slot < 0 ? -1 : std::int64_t(slot) * kBlockNodes + std::int64_t(within_block(i, j, k));
   };
-  const auto for_each_kept_block = [&](const auto& f) {
-    for (int bz = 0; bz < r.blocks_[2]; ++bz)
-      for (int by = 0; by < r.blocks_[1]; ++by)
-        for (int bx = 0; bx < r.blocks_[0]; ++bx)
-          if (const std::int32_t slot = r.slot_of(bx, by, bz); slot >= 0)
-            f(bx, by, bz, slot);
-  };
-  for_each_kept_block([&](int bx, int by, int bz, std::int32_t slot) {
-    for (int k = bz * kBlock; k < (bz + 1) * kBlock; ++k)
-      for (int j = by * kBlock; j < (by + 1) * kBlock; ++j)
-        for (int i = bx * kBlock; i < (bx + 1) * kBlock; ++i)
-          r.values_[std::size_t(slot) * kBlockNodes + within_block(i, j, k)] =
-              coarse
-                  .sample(r.origin_ + r.cell_ * Vec3(Real(i), Real(j), Real(k)),
-                          GridInterpolation::tricubic)
-                  .distance;
-  });
-  std::vector<Real> exact(r.values_.size(), std::numeric_limits<Real>::infinity());
   const Real band = SdfGrid::kBand * r.cell_;
   sdf::for_each_node_near_triangles(
       vertices, triangles, r.origin_, r.cell_, r.nodes_, band, [&](int x, int y, int z, Real d) {
         const std::int64_t at = node_index(x, y, z);
         if (at >= 0)
-          exact[std::size_t(at)] = std::min(exact[std::size_t(at)], d);
+          r.values_[std::size_t(at)] = std::min(r.values_[std::size_t(at)], d);
       });
   const std::vector<sdf::RowCrossing> crossings =
       sdf::row_crossings(vertices, triangles, r.origin_, r.cell_, r.nodes_);
   const auto by_row = [](const sdf::RowCrossing& c, std::size_t row) { return c.row < row; };
-  for_each_kept_block([&](int bx, int by, int bz, std::int32_t slot) {
-    for (int k = bz * kBlock; k < std::min((bz + 1) * kBlock, r.nodes_[2]); ++k)
-      for (int j = by * kBlock; j < std::min((by + 1) * kBlock, r.nodes_[1]); ++j) {
-        const std::size_t row = std::size_t(j) + std::size_t(r.nodes_[1]) * std::size_t(k);
-        const auto first = std::lower_bound(crossings.begin(), crossings.end(), row, by_row);
-        auto last = first;
-        while (last != crossings.end() && last->row == row)
-          ++last;
-        for (int i = bx * kBlock; i < std::min((bx + 1) * kBlock, r.nodes_[0]); ++i) {
-          const std::size_t at = std::size_t(slot) * kBlockNodes + within_block(i, j, k);
-          if (!(exact[at] <= band))
-            continue;
-          const Real x = r.origin_.x() + r.cell_ * Real(i);
-          const auto before = std::lower_bound(
-              first, last, x, [](const sdf::RowCrossing& c, Real v) { return c.x < v; });
-          const bool inside = (before - first) % 2 != 0;
-          r.values_[at] = inside ? -exact[at] : exact[at];
-          ++r.band_nodes_;
-        }
+  for (int bz = 0; bz < r.blocks_[2]; ++bz)
+    for (int by = 0; by < r.blocks_[1]; ++by)
+      for (int bx = 0; bx < r.blocks_[0]; ++bx) {
+        const std::int32_t slot = r.slot_of(bx, by, bz);
+        if (slot < 0)
+          continue;
+        for (int k = bz * kBlock; k < (bz + 1) * kBlock; ++k)
+          for (int j = by * kBlock; j < (by + 1) * kBlock; ++j) {
+            // A block past the lattice's last row holds nodes no sample reads: the coarse value.
+            const bool row_in_lattice = j < r.nodes_[1] && k < r.nodes_[2];
+            const std::size_t row = std::size_t(j) + std::size_t(r.nodes_[1]) * std::size_t(k);
+            auto first = crossings.end(), last = crossings.end();
+            if (row_in_lattice) {
+              first = std::lower_bound(crossings.begin(), crossings.end(), row, by_row);
+              last = first;
+              while (last != crossings.end() && last->row == row)
+                ++last;
+            }
+            for (int i = bx * kBlock; i < (bx + 1) * kBlock; ++i) {
+              Real& value = r.values_[std::size_t(slot) * kBlockNodes + within_block(i, j, k)];
+              const Vec3 node = r.origin_ + r.cell_ * Vec3(Real(i), Real(j), Real(k));
+              if (row_in_lattice && i < r.nodes_[0] && value <= band) {
+                const auto before =
+                    std::lower_bound(first, last, node.x(),
+                                     [](const sdf::RowCrossing& c, Real v) { return c.x < v; });
+                if ((before - first) % 2 != 0)
+                  value = -value;
+                ++r.band_nodes_;
+              } else {
+                value = coarse.sample(node, GridInterpolation::tricubic).distance;
+              }
+            }
+          }
       }
-  });
   return r;
 }
 

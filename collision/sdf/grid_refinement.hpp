@@ -6,7 +6,8 @@
 // volumes with dynamic topology", ACM TOG 32(3), 2013).
 //
 // The fine nodes lie on the grid's own lattice divided by `refine`, in blocks of 8^3 nodes. A
-// block exists where it lies within kBand + 2 fine cells of a triangle's box: every node within
+// block exists where its centre lies within kBand + 2 fine cells and half its diagonal of a
+// triangle: every node within
 // kBand fine cells of the surface holds its exact distance (signed by ray parity along its fine
 // row), the others of an existing block the coarse grid's value there. A point whose
 // interpolation stencil (2 nodes a side trilinear, 4 tricubic) lies in existing blocks is

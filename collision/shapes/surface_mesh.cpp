@@ -1,4 +1,8 @@
-// Tessellations of shapes (collision/shapes/surface_mesh.hpp).
+// Tessellations of shapes (collision/shapes/surface_mesh.hpp): surfaces of revolution by latitude
+// rings; the generic convex path samples the support map along the vertex directions of a
+// subdivided icosahedron (Loop's midpoint subdivision of the icosahedron, each new vertex pushed
+// onto the sphere: the "icosphere"), whose connectivity joins the support points; the enclosed
+// volume by the divergence theorem (a sum of signed tetrahedra from the origin).
 #include "collision/shapes/surface_mesh.hpp"
 
 #include <algorithm>

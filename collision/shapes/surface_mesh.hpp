@@ -48,13 +48,14 @@ SurfaceMesh tessellate_convex_support(const Shape& shape, const TessellationDeta
 // the longest side of its bounds (collision/shapes/sdf_surface_mesh.cpp).
 SurfaceMesh tessellate_sdf(const SdfShape& field, int cells);
 
-// The mesh of a bounded shape, as its row of the shape table makes it. Throws
-// std::invalid_argument for shapes it cannot draw (unbounded ones: planes are drawn as floors by
-// the renderer, not meshed here).
 // A triangle mesh as it is: its own triangles, flat shaded (each corner carries the face normal).
 SurfaceMesh tessellate_triangle_mesh(const TriangleMesh& mesh);
 // A compound: its parts' meshes, each placed by its pose.
 SurfaceMesh tessellate_compound(const CompoundShape& compound, const TessellationDetail& detail);
+
+// The mesh of a bounded shape, as its row of the shape table makes it. Throws
+// std::invalid_argument for shapes it cannot draw (unbounded ones: planes are drawn as floors by
+// the renderer, not meshed here).
 SurfaceMesh tessellate(const Shape& shape, const TessellationDetail& detail);
 
 // Unit directions of an icosahedron subdivided `subdivision` times, and its triangles.

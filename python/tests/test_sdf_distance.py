@@ -168,6 +168,12 @@ def test_contact_potential_is_the_clipped_spring_of_the_depth():
                                   "gradient_b": [0] * 6}, 1.0, 1.0)
     with pytest.raises(ValueError, match="no 'distance'"):
         tumble.contact_potential({}, 1.0, 1.0)
+    with pytest.raises(ValueError, match="distance must be a number"):
+        tumble.contact_potential({"distance": "deep", "gradient_a": [0] * 6,
+                                  "gradient_b": [0] * 6}, 1.0, 1.0)
+    with pytest.raises(ValueError, match="gradient_b must be 6 numbers"):
+        tumble.contact_potential({"distance": -0.1, "gradient_a": [0] * 6,
+                                  "gradient_b": ["x"] * 6}, 1.0, 1.0)
 
 
 def _turned(pose, axis, angle):

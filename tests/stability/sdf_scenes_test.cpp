@@ -107,6 +107,7 @@ struct Rest {
   Vec3 box;
   Vec3 capsule;  // mean over the fifth second
   Real box_tilt;
+  Real capsule_range;  // the diagonal of the box its positions filled in the fifth second
 };
 
 Rest rest_in_bowls(const char* file) {
@@ -115,14 +116,19 @@ Rest rest_in_bowls(const char* file) {
   // The capsule's position averaged over the fifth second: where it rests, also when it still
   // rocks about its axis (rolling, which nothing damps but friction's slip).
   Vec3 capsule_mean = Vec3::Zero();
+  Vec3 capsule_low = Vec3::Constant(1e300), capsule_high = Vec3::Constant(-1e300);
   const BodyId capsule_id = world.body("capsule");
   for (int i = 0; i < 240; ++i) {
     world.step(1);
-    capsule_mean += world.body_state(capsule_id).position / 240;
+    const Vec3 at = world.body_state(capsule_id).position;
+    capsule_mean += at / 240;
+    capsule_low = capsule_low.cwiseMin(at);
+    capsule_high = capsule_high.cwiseMax(at);
   }
   const BodyState box = world.body_state(world.body("box"));
   return {box.position, capsule_mean,
-          std::acos(std::min(Real(1), (box.orientation * Vec3::UnitZ()).z()))};
+          std::acos(std::min(Real(1), (box.orientation * Vec3::UnitZ()).z())),
+          (capsule_high - capsule_low).norm()};
 }
 
 TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
@@ -138,6 +144,7 @@ TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
   EXPECT_LT((csg.box - Vec3(-1, 0, box_z)).norm(), 5e-4) << csg.box.transpose();
   EXPECT_LT((csg.capsule - Vec3(1, 0, capsule_z)).norm(), 5e-4) << csg.capsule.transpose();
   EXPECT_LT(csg.box_tilt, 1e-3);
+  EXPECT_LT(csg.capsule_range, 1e-4);  // at rest
   // In the mesh bowl: both within a millimetre of where they rest in the field's bowl. The
   // facets' first touch nudges the capsule sideways and it still rocks about its axis in the fifth
   // second (rolling, hardly damped; 1.2 mm off at the end, measured), about the same rest: its
@@ -146,6 +153,8 @@ TEST(SdfScenes, BodiesRestInACsgBowlWhereTheyRestInTheSameBowlAsAMesh) {
   EXPECT_LT((mesh.box - csg.box).norm(), 1e-3) << mesh.box.transpose();
   EXPECT_LT(mesh.box_tilt, 1e-3);
   EXPECT_LT((mesh.capsule - csg.capsule).norm(), 1e-3) << mesh.capsule.transpose();
+  // Rocking, not wandering off: its positions in the fifth second span 3.0 mm (measured).
+  EXPECT_LT(mesh.capsule_range, 4e-3);
 }
 
 TEST(SdfScenes, BodiesRestInAnOpenVdbBowlWhereTheyRestInTheCsgBowl) {
@@ -159,6 +168,7 @@ TEST(SdfScenes, BodiesRestInAnOpenVdbBowlWhereTheyRestInTheCsgBowl) {
   EXPECT_LT((vdb.box - csg.box).norm(), 1e-3) << vdb.box.transpose();
   EXPECT_LT(vdb.box_tilt, 1e-3);
   EXPECT_LT((vdb.capsule - csg.capsule).norm(), 1e-3) << vdb.capsule.transpose();
+  EXPECT_LT(vdb.capsule_range, 1e-4);  // at rest
 }
 
 }  // namespace
