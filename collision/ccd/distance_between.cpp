@@ -216,15 +216,7 @@ ShapeDistance solid_and_field(const Shape& a, const Transform& pose_a, const Sdf
   // of 26 directions (a smooth phi falls along one of them). A holds it (inside, or on its
   // boundary where the ridge crosses) as it moves a little, so the distance does not change with
   // either pose. A deepest point inside A is always such a kink.
-  bool lowest_around = true;
-  for (int i = -1; i <= 1 && lowest_around; ++i)
-    for (int j = -1; j <= 1 && lowest_around; ++j)
-      for (int k = -1; k <= 1 && lowest_around; ++k)
-        if (i != 0 || j != 0 || k != 0)
-          lowest_around =
-              phi(core + size * Real(1e-10) * Vec3(Real(i), Real(j), Real(k)).normalized())
-                  .distance >= d.distance;
-  if (lowest_around) {
+  if (least_around(phi, core, size, d.distance)) {
     d.gradient_a.setZero();
     d.gradient_b.setZero();
   }

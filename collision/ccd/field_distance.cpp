@@ -123,15 +123,7 @@ ShapeDistance plane_and_field(const Transform& plane_pose, const SdfShape& field
   // The deepest point a minimum of phi itself (the field's deepest point inside the half-space,
   // or a ridge of it held on the plane): the distance does not change as the poses move a little
   // (the rule of solid_and_field in distance_between.cpp).
-  bool lowest_around = true;
-  for (int i = -1; i <= 1 && lowest_around; ++i)
-    for (int j = -1; j <= 1 && lowest_around; ++j)
-      for (int k = -1; k <= 1 && lowest_around; ++k)
-        if (i != 0 || j != 0 || k != 0)
-          lowest_around = objective(Vec3(core + size * Real(1e-10) *
-                                                    Vec3(Real(i), Real(j), Real(k)).normalized()))
-                              .distance >= d.distance;
-  if (lowest_around) {
+  if (least_around(objective, core, size, d.distance)) {
     d.gradient_a.setZero();
     d.gradient_b.setZero();
   }

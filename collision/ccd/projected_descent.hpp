@@ -52,4 +52,21 @@ std::pair<Vec3, sdf::Sample> projected_descent(const Vec3& start, Real size, int
   return {x, here};
 }
 
+// Whether `point` is a least point of `objective` itself (a kink such as a field's deepest point
+// or a ridge, not only the least over the set): no step of 1e-10 of `size` along any of the 26
+// grid directions goes below `value` (a smooth objective falls along one of them). There the
+// least value does not change as the poses move a little, and its gradients are zero.
+template <class Objective>
+bool least_around(const Objective& objective, const Vec3& point, Real size, Real value) {
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j)
+      for (int k = -1; k <= 1; ++k)
+        if ((i != 0 || j != 0 || k != 0) &&
+            !(objective(
+                  Vec3(point + size * Real(1e-10) * Vec3(Real(i), Real(j), Real(k)).normalized()))
+                  .distance >= value))
+          return false;
+  return true;
+}
+
 }  // namespace tumble
