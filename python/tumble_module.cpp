@@ -55,7 +55,13 @@ std::string yaml_of(const py::object& description, const char* what) {
 // A pose from 3 numbers (a position) or 7 (position, then orientation w x y z: a
 // trajectory.csv row's order).
 tumble::Transform pose_of(const py::object& pose, const char* what) {
-  const std::vector<Real> v = pose.cast<std::vector<Real>>();
+  std::vector<Real> v;
+  try {
+    v = pose.cast<std::vector<Real>>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(what) + ": expected a sequence of 3 or 7 numbers, got " +
+                         std::string(py::str(py::type::of(pose).attr("__name__"))));
+  }
   if (v.size() != 3 && v.size() != 7)
     throw py::value_error(std::string(what) +
                           ": expected 3 numbers (x, y, z) or 7 (x, y, z, qw, qx, qy, qz), got " +

@@ -2,7 +2,7 @@
 # Fuzzes tumble: builds every target of tests/fuzz with clang (libFuzzer, with AddressSanitizer,
 # UndefinedBehaviorSanitizer and float-cast-overflow) and runs each for SECONDS (default 60).
 #
-#   scripts/fuzz.sh [SECONDS]
+#   scripts/fuzz.sh [SECONDS]            (FUZZ_OPT=-O1: the faster build of a short run)
 #
 # Seeds: the repository's own inputs (scenes, malformed scenes, OBJ meshes, CCD sample queries,
 # the query example of docs/scene-format.md) for the targets that read files, and
@@ -39,10 +39,12 @@ if [ -z "$clang" ]; then
 fi
 # -O2 and line tables: stack traces that name file and line, and a third less time per input than
 # -O1 (an SDF body's mass integration, the slowest thing a scene loads, takes 4 to 6 s under the
-# sanitizers and the fuzzer's coverage, 0.1 s in the optimised build). The libraries only: no
-# apps, renderer or oracles.
+# sanitizers and the fuzzer's coverage, 0.1 s in the optimised build). FUZZ_OPT=-O1 compiles
+# faster, for short runs (CI: scripts/test.sh), where the build is most of the time. The
+# libraries only: no apps, renderer or oracles.
+opt=${FUZZ_OPT:--O2}
 cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" -DTUMBLE_FUZZ=ON -DTUMBLE_BUILD_TESTS=OFF \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$opt -g1" -DTUMBLE_FUZZ=ON -DTUMBLE_BUILD_TESTS=OFF \
   -DTUMBLE_WITH_RENDER=OFF -DTUMBLE_WITH_BULLET=OFF -DTUMBLE_WITH_MUJOCO=OFF -DTUMBLE_WITH_MPI=OFF \
   -DTUMBLE_UNITY_LIBRARIES=ON >/dev/null
 cmake --build "$build" --target tumble_fuzzers -j "$(nproc)"

@@ -201,16 +201,20 @@ ShapeDistance solid_and_field(const Shape& a, const Transform& pose_a, const Sdf
       }
   Real best = std::numeric_limits<Real>::infinity();
   Vec3 core = pose_a.translation;
+  bool best_capped = false;
   for (const auto& [start_value, start] : seeds) {
     if (!std::isfinite(start_value))
       continue;
-    const auto [x, here] = projected_descent(start, size, 2000, phi, project);
+    bool capped = false;
+    const auto [x, here] = projected_descent(start, size, 2000, phi, project, &capped);
     if (here.distance < best) {
       best = here.distance;
       core = x;
+      best_capped = capped;
     }
   }
   ShapeDistance d = field_distance_through(a, core, 0, pose_a, field, time, pose_b);
+  d.converged = !best_capped;  // a descent stopped by its step cap may be short of the least
   // The deepest point a minimum of phi itself, not only over A: a kink of the field (its deepest
   // point, the core ridge of a torus) where phi does not fall a step of 1e-10 of A's size along any
   // of 26 directions (a smooth phi falls along one of them). A holds it (inside, or on its

@@ -68,17 +68,21 @@ void check_within_reach(const SdfShape& field, Real value, const char* which) {
                 " m of its surface); widen the level set's band (docs/sdf.md)");
 }
 
-// Descends from each seed of `seeds`, and keeps in `best` and `core` the lowest end met so far.
+// Descends from each seed of `seeds`, and keeps in `best` and `core` the lowest end met so far,
+// and in `capped` whether that end's descent stopped at its step cap.
 template <class Objective, class Project>
 void descend_from(const SeedList& seeds, Real size, const Objective& objective,
-                  const Project& project, Real& best, Vec3& core) {
+                  const Project& project, Real& best, Vec3& core, bool& capped) {
   for (const auto& [value, start] : seeds.seeds) {
     if (!std::isfinite(value))
       continue;
-    const auto [x, reached] = projected_descent(start, size, kMaxDescentSteps, objective, project);
+    bool stopped = false;
+    const auto [x, reached] =
+        projected_descent(start, size, kMaxDescentSteps, objective, project, &stopped);
     if (reached.distance < best) {
       best = reached.distance;
       core = x;
+      capped = stopped;
     }
   }
 }
@@ -106,10 +110,12 @@ ShapeDistance plane_and_field(const Transform& plane_pose, const SdfShape& field
   const Real size = field.bounding_radius();
   Real best = std::numeric_limits<Real>::infinity();
   Vec3 core = origin;
-  descend_from(seeds, size, objective, project, best, core);
+  bool capped = false;
+  descend_from(seeds, size, objective, project, best, core, capped);
   const sdf::Sample s = world_sample(field, time, field_pose, core);
   check_within_reach(field, s.distance, "the field");
   ShapeDistance d;
+  d.converged = !capped;
   d.normal = unit_or(s.gradient, -up);  // from B (the field) to A (the plane): along grad phi_B
   d.distance = s.distance;
   d.point_a = core;
@@ -149,13 +155,15 @@ ShapeDistance field_and_field(const SdfShape& a, Real time_a, const Transform& p
   const Real size = std::min(a.bounding_radius(), b.bounding_radius());
   Real best = std::numeric_limits<Real>::infinity();
   Vec3 core = pose_a.translation;
-  descend_from(seeds_on_a, size, objective, anywhere, best, core);
-  descend_from(seeds_on_b, size, objective, anywhere, best, core);
+  bool capped = false;
+  descend_from(seeds_on_a, size, objective, anywhere, best, core, capped);
+  descend_from(seeds_on_b, size, objective, anywhere, best, core, capped);
   const sdf::Sample sa = world_sample(a, time_a, pose_a, core);
   const sdf::Sample sb = world_sample(b, time_b, pose_b, core);
   check_within_reach(a, sa.distance, "field A");
   check_within_reach(b, sb.distance, "field B");
   ShapeDistance d;
+  d.converged = !capped;
   d.distance = sa.distance + sb.distance;
   // At a smooth optimum grad phi_A = -grad phi_B, and their half difference m is used, so that
   // the two translation gradients are exact opposites (the distance does not change when both

@@ -19,14 +19,17 @@ namespace tumble {
 // From `start` (in the set): `objective(x)` gives the value and gradient (an sdf::Sample),
 // `project(x)` the point of the set nearest x. Stops when the projected step vanishes (a
 // stationary point, or the gradient pointing straight out of the set), when the step falls below
-// 1e-14 of `size`, or after `max_steps` steps. Returns the point and its sample.
+// 1e-14 of `size`, or after `max_steps` steps (then `*capped`, when given, is set). Returns the
+// point and its sample.
 template <class Objective, class Project>
 std::pair<Vec3, sdf::Sample> projected_descent(const Vec3& start, Real size, int max_steps,
-                                               const Objective& objective, const Project& project) {
+                                               const Objective& objective, const Project& project,
+                                               bool* capped = nullptr) {
   Vec3 x = start;
   sdf::Sample here = objective(x);
   Real step = size / 8;
-  for (int iteration = 0; iteration < max_steps && step > size * Real(1e-14); ++iteration) {
+  int iteration = 0;
+  for (; iteration < max_steps && step > size * Real(1e-14); ++iteration) {
     const Vec3 d = project(Vec3(x - step * here.gradient)) - x;
     if (!(d.norm() > size * Real(1e-15)))
       break;
@@ -49,6 +52,8 @@ std::pair<Vec3, sdf::Sample> projected_descent(const Vec3& start, Real size, int
     if (t == 1)
       step *= 2;  // the whole step was taken: there may be room for a longer one
   }
+  if (capped != nullptr)
+    *capped = iteration == max_steps;
   return {x, here};
 }
 

@@ -85,6 +85,11 @@ def test_distance_refuses_what_it_cannot_answer():
         tumble.distance(sphere, [0, 0, 0], sphere, [0, 0])
     with pytest.raises(ValueError, match="unit quaternion"):
         tumble.distance(sphere, [0, 0, 0, 2, 0, 0, 0], sphere, [0, 0, 3])
+    with pytest.raises(ValueError, match="pose_a: every number must be finite"):
+        tumble.distance(sphere, [0, float("nan"), 0], sphere, [0, 0, 3])
+    for wrong in ("0 0 0", None, [0, "a", 0], {"x": 0}):
+        with pytest.raises(TypeError, match="pose_a: expected a sequence of 3 or 7 numbers"):
+            tumble.distance(sphere, wrong, sphere, [0, 0, 3])
     with pytest.raises(tumble.SceneError, match="shape_a"):
         tumble.distance({"type": "sphere", "radius": -1}, [0, 0, 0], sphere, [0, 0, 3])
 

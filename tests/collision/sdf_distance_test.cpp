@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "collision/ccd/projected_descent.hpp"
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/shapes/sdf_shape.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
@@ -253,6 +254,7 @@ TEST(SdfDistance, TwoFieldBallsAreAtTheirClosedFormDistance) {
     const ShapeDistance d = distance_between(a, pose_a, b, pose_b);
     overlapping += d.distance < 0 ? 1 : 0;
     ASSERT_NEAR(d.distance, centres - 0.8, 1e-9) << i;
+    ASSERT_TRUE(d.converged) << i;
     ASSERT_NEAR((d.normal - n).norm(), 0, 1e-6) << i;
     ASSERT_NEAR((d.point_a - (pose_a.translation - 0.3 * n)).norm(), 0, 1e-6) << i;
     ASSERT_NEAR((d.point_b - (pose_b.translation + 0.5 * n)).norm(), 0, 1e-6) << i;
@@ -262,6 +264,28 @@ TEST(SdfDistance, TwoFieldBallsAreAtTheirClosedFormDistance) {
     ASSERT_NEAR(d.gradient_b.tail<3>().norm(), 0, 1e-6) << i;
   }
   EXPECT_GT(overlapping, scaled(1000) / 10);
+}
+
+// The descent says when it stopped at its step cap rather than at a least point, which the
+// distances against fields report as not converged.
+TEST(SdfDistance, TheDescentReportsItsStepCap) {
+  // The least of |x - c|^2 over the unit box, c outside it: the corner (1, 1, 1).
+  const Vec3 c(2, 3, 4);
+  const auto objective = [&](const Vec3& x) {
+    return sdf::Sample{(x - c).squaredNorm(), Vec3(2 * (x - c))};
+  };
+  const auto project = [](const Vec3& x) { return Vec3(x.cwiseMax(Real(-1)).cwiseMin(Real(1))); };
+  bool capped = false;
+  const auto [x, reached] =
+      projected_descent(Vec3(-1, -1, -1), 1, 2000, objective, project, &capped);
+  EXPECT_FALSE(capped);
+  EXPECT_NEAR((x - Vec3(1, 1, 1)).norm(), 0, 1e-12);
+  EXPECT_NEAR(reached.distance, (Vec3(1, 1, 1) - c).squaredNorm(), 1e-12);
+  const auto [early, value] =
+      projected_descent(Vec3(-1, -1, -1), 1, 2, objective, project, &capped);
+  EXPECT_TRUE(capped);
+  EXPECT_GT(value.distance, reached.distance);
+  EXPECT_GT((early - Vec3(1, 1, 1)).norm(), 1e-3);
 }
 
 // A plane's half-space against a field, and a field against a field, on fields smooth wherever the
