@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -33,6 +34,19 @@ Quat field_test_rotation(std::mt19937_64& rng) {
   Quat q(n(rng), n(rng), n(rng), n(rng));
   q.normalize();
   return q;
+}
+
+// A pose `from` to `to` from `centre`'s origin in a random direction, turned at random; none when
+// the direction drawn is too short to normalise.
+std::optional<Transform> pose_around(const Transform& centre, Real from, Real to,
+                                     std::mt19937_64& rng) {
+  std::uniform_real_distribution<Real> u(-1, 1);
+  Vec3 dir(u(rng), u(rng), u(rng));
+  if (dir.norm() < 1e-3)
+    return std::nullopt;
+  dir.normalize();
+  const Real distance = from + (to - from) * (u(rng) + 1) / 2;
+  return Transform{centre.translation + distance * dir, field_test_rotation(rng)};
 }
 
 Real deepest_point_depth(const Manifold& m, int count) {
@@ -309,13 +323,11 @@ TEST(SdfContact, AHullAgainstAFieldBallHasTheDepthOfItsNearestPoint) {
     const auto hull = std::make_shared<const ConvexHull>(ConvexHull::from_points(points));
     const Shape a = Shape::convex_hull(hull);
     const Transform pose_b{Vec3(u(rng), u(rng), u(rng)), field_test_rotation(rng)};
-    Vec3 dir(u(rng), u(rng), u(rng));
-    if (dir.norm() < 1e-3)
-      continue;
-    dir.normalize();
     // The hull's centre 0.5 to 0.9 from the ball's; keep the cases that touch by up to 5 cm.
-    const Transform pose_a{pose_b.translation + (0.5 + 0.4 * (u(rng) + 1) / 2) * dir,
-                           field_test_rotation(rng)};
+    const std::optional<Transform> placed = pose_around(pose_b, 0.5, 0.9, rng);
+    if (!placed)
+      continue;
+    const Transform& pose_a = *placed;
     Vec3 nearest = Vec3::Zero();
     const Real gap = distance_to_hull(*hull, pose_a, pose_b.translation, nearest);
     const Real depth = 0.5 - gap;
@@ -356,12 +368,10 @@ TEST(SdfContact, ACapsuleAgainstAFieldBallHasTheDepthOfItsCoreWithinTheSamplesSa
   Real worst_depth = 0, worst_angle = 0;
   for (int i = 0; i < cases; ++i) {
     const Transform pose_b{Vec3(u(rng), u(rng), u(rng)), field_test_rotation(rng)};
-    Vec3 dir(u(rng), u(rng), u(rng));
-    if (dir.norm() < 1e-3)
+    const std::optional<Transform> placed = pose_around(pose_b, 0.6, 0.9, rng);
+    if (!placed)
       continue;
-    dir.normalize();
-    const Transform pose_a{pose_b.translation + (0.6 + 0.3 * (u(rng) + 1) / 2) * dir,
-                           field_test_rotation(rng)};
+    const Transform& pose_a = *placed;
     const Vec3 axis = pose_a.rotate(Vec3::UnitZ());
     const Real t =
         std::clamp((pose_b.translation - pose_a.translation).dot(axis), Real(-0.3), Real(0.3));
@@ -400,12 +410,10 @@ TEST(SdfContact, ACylinderAgainstAFieldBallHasTheDepthOfItsNearestPointWithinASp
   Real worst_depth = 0;
   for (int i = 0; i < cases; ++i) {
     const Transform pose_b{Vec3(u(rng), u(rng), u(rng)), field_test_rotation(rng)};
-    Vec3 dir(u(rng), u(rng), u(rng));
-    if (dir.norm() < 1e-3)
+    const std::optional<Transform> placed = pose_around(pose_b, 0.55, 0.8, rng);
+    if (!placed)
       continue;
-    dir.normalize();
-    const Transform pose_a{pose_b.translation + (0.55 + 0.25 * (u(rng) + 1) / 2) * dir,
-                           field_test_rotation(rng)};
+    const Transform& pose_a = *placed;
     // The nearest point of the solid cylinder to the ball's centre, in the cylinder's frame.
     const Vec3 c = pose_a.apply_inverse(pose_b.translation);
     Vec3 q(c.x(), c.y(), std::clamp(c.z(), Real(-0.2), Real(0.2)));
