@@ -129,6 +129,37 @@ TEST(DistanceGradient, MatchesCentralDifferencesForEveryConvexPair) {
   }
 }
 
+// A plane as the first shape: the same answer as with it second, mirrored (the distance, the normal
+// negated, the points and the gradients swapped), so that the differences checked above with the
+// plane second hold for it first too.
+TEST(DistanceGradient, APlaneFirstIsThePlaneSecondMirrored) {
+  const ShapeType convex[] = {ShapeType::sphere, ShapeType::box, ShapeType::capsule,
+                              ShapeType::cylinder, ShapeType::hull};
+  Rng rng(32);
+  int penetrating = 0, compared = 0;
+  for (const ShapeType type : convex)
+    for (int i = 0; i < scaled(1000); ++i) {
+      const Shape b = testing::random_shape(rng, type);
+      const Transform pose_b{testing::random_vector_in_box(rng, 5), testing::random_rotation(rng)};
+      Transform pose_plane{Vec3::Zero(), testing::random_rotation(rng)};
+      const Vec3 up = pose_plane.rotation * Vec3::UnitZ();
+      pose_plane.translation =
+          pose_b.translation - up * testing::uniform(rng, -0.5, 1.5) * shape_bounding_radius(b);
+      const ShapeDistance first = distance_between(Shape::plane(), pose_plane, b, pose_b);
+      const ShapeDistance second = distance_between(b, pose_b, Shape::plane(), pose_plane);
+      ASSERT_EQ(first.distance, second.distance) << shape_type_name(type) << " " << i;
+      ASSERT_EQ(first.normal, Vec3(-second.normal)) << shape_type_name(type) << " " << i;
+      ASSERT_EQ(first.point_a, second.point_b) << shape_type_name(type) << " " << i;
+      ASSERT_EQ(first.point_b, second.point_a) << shape_type_name(type) << " " << i;
+      ASSERT_EQ(first.gradient_a, second.gradient_b) << shape_type_name(type) << " " << i;
+      ASSERT_EQ(first.gradient_b, second.gradient_a) << shape_type_name(type) << " " << i;
+      penetrating += first.distance < 0;
+      ++compared;
+    }
+  EXPECT_GT(penetrating, compared / 10);
+  EXPECT_LT(penetrating, compared * 9 / 10);
+}
+
 TEST(DistanceGradient, AgreesWithTheExactAnswerForTwoSpheres) {
   Rng rng(32);
   for (int i = 0; i < 1000; ++i) {
