@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "tumble/error.hpp"
 
@@ -34,7 +35,11 @@ Real inside_fraction(Real phi, Real side) {
 
 }  // namespace
 
-SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
+SdfShape::SdfShape(const SdfNode& root, int cells_along_longest) : tree_(root) {
+  if (cells_along_longest < kMinCells || cells_along_longest > kMaxCells)
+    throw Error("an SDF shape's resolution must be " + std::to_string(kMinCells) + " to " +
+                std::to_string(kMaxCells) + " cells along its longest side, got " +
+                std::to_string(cells_along_longest));
   if (!tree_.is_bounded())
     throw Error(
         "an SDF shape must be a bounded solid: a half-space is unbounded (intersect it with a "
@@ -42,7 +47,7 @@ SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
   const Aabb& tb = tree_.bounds();
   const Vec3 size = tb.max - tb.min;
   const Real longest = size.maxCoeff();
-  cell_ = longest / kMassCells;
+  cell_ = longest / Real(cells_along_longest);
   // A cell of margin on every side (the bounds of a bound field may touch the surface), and the
   // grid centred on the bounds, so that a symmetric solid is sampled symmetrically.
   int cells[3];
@@ -171,8 +176,8 @@ SdfShape::SdfShape(const SdfNode& root) : tree_(root) {
     bucket_points_[fill[bucket_of(points_[i])]++] = std::uint32_t(i);
 }
 
-Shape sdf_shape(const SdfNode& root, Vec3* centre_of_mass) {
-  auto field = std::make_shared<const SdfShape>(root);
+Shape sdf_shape(const SdfNode& root, Vec3* centre_of_mass, int cells) {
+  auto field = std::make_shared<const SdfShape>(root, cells);
   if (centre_of_mass != nullptr)
     *centre_of_mass = field->centre_in_tree();
   return Shape::signed_distance_field(std::move(field));

@@ -2,18 +2,18 @@
 // engine needs besides the field: mass properties, a bounding box and radius, and points spread
 // over its surface for the narrow phase (collision/narrow_phase/pairs/sdf_pairs.cpp).
 //
-// Mass properties are integrated over phi < 0 on a grid of cells (kMassCells along the longest
-// side of the bounds); cells the surface may cross (|phi| below the cell's half diagonal) are
-// split into kSubcells^3 sub-cells, each counted by the fraction 1/2 - phi / s of its size s
-// that lies inside (exact for a plane across an axis-aligned cell). The volume error of a torus
-// (1.0, 0.25) is below 0.05% and its inertia's below 0.1% (tests/collision/sdf_shape_test.cpp;
-// docs/sdf.md). The local frame is the tree's, moved so that the centre of mass is the origin,
-// as for every shape.
+// Mass properties are integrated over phi < 0 on a grid of cells (the resolution: kMassCells
+// along the longest side of the bounds unless the caller picks another); cells the surface may
+// cross (|phi| below the cell's half diagonal) are split into kSubcells^3 sub-cells, each counted
+// by the fraction 1/2 - phi / s of its size s that lies inside (exact for a plane across an
+// axis-aligned cell). The volume error of a torus (1.0, 0.25) is below 0.05% and its inertia's
+// below 0.1% (tests/collision/sdf_shape_test.cpp; docs/sdf.md). The local frame is the tree's,
+// moved so that the centre of mass is the origin, as for every shape.
 //
 // Surface points: the centre of every grid cell the surface crosses, projected onto phi = 0 by
 // Newton steps along the gradient, with the outward normal there; about one point per cell side
-// of surface (kMassCells = 48: a torus (1, 0.25) gets about 3,700). They are bucketed in a coarse
-// grid so that the points inside a box are found without a scan.
+// of surface (kMassCells = 48: a torus (1, 0.25) gets 6,240; 8 cells give it 200). They are
+// bucketed in a coarse grid so that the points inside a box are found without a scan.
 #pragma once
 
 #include <cstdint>
@@ -30,10 +30,17 @@ class SdfShape {
  public:
   static constexpr int kMassCells = 48;
   static constexpr int kSubcells = 4;
+  // The resolutions a shape may have. Cost and surface points grow as cells^2 (the cells the
+  // surface crosses) plus cells^3 / 64 (the whole grid, one sample a cell): 128 takes about seven
+  // times as long as 48 to build and has seven times the points; 8 is coarse enough for a
+  // placeholder, fine enough to see a solid as thick as an eighth of its length.
+  static constexpr int kMinCells = 8;
+  static constexpr int kMaxCells = 128;
 
   // Throws tumble::Error when the field has no bounded solid (a half-space alone, or a solid
-  // smaller than the grid can see: no cell centre inside).
-  explicit SdfShape(const SdfNode& root);
+  // smaller than the grid can see: no cell centre inside), or when `cells` (the grid's cells
+  // along the longest side of the bounds) is outside [kMinCells, kMaxCells].
+  explicit SdfShape(const SdfNode& root, int cells = kMassCells);
 
   // The field in the local frame (centre of mass at the origin), at `time` (seconds; Shape's
   // field_time, which the world keeps at its clock) for a field that changes with time.
@@ -132,9 +139,10 @@ class SdfShape {
   std::vector<std::uint32_t> bucket_points_;
 };
 
-// The shape of `root`; `centre_of_mass` (if given) receives the centre of mass in the tree's frame,
-// where a body must be placed for the solid to sit where the tree says. Throws as SdfShape does
-// and as SdfTree does for a malformed tree.
-Shape sdf_shape(const SdfNode& root, Vec3* centre_of_mass = nullptr);
+// The shape of `root` at a resolution of `cells` (SdfShape); `centre_of_mass` (if given)
+// receives the centre of mass in the tree's frame, where a body must be placed for the solid to
+// sit where the tree says. Throws as SdfShape does and as SdfTree does for a malformed tree.
+Shape sdf_shape(const SdfNode& root, Vec3* centre_of_mass = nullptr,
+                int cells = SdfShape::kMassCells);
 
 }  // namespace tumble

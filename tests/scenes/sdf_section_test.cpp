@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "collision/sdf/sdf_tree.hpp"
+#include "collision/shapes/sdf_shape.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sdf_section.hpp"
 #include "tumble/error.hpp"
@@ -189,6 +190,38 @@ TEST(SdfYaml, AMorphReadsBothFieldsAndItsTimes) {
   std::string kinematic = body;
   kinematic.replace(kinematic.find("    mass: 1\n"), 12, "    kinematic: true\n");
   EXPECT_TRUE(load_scene_string(kinematic, "morph.yaml").bodies[0].kinematic);
+}
+
+// A shape's resolution: the cells of its mass grid along the longest side (48 unless given),
+// which set the spacing of its surface points; outside 8 to 128 it is refused by line and field.
+TEST(SdfYaml, AShapesResolutionSetsItsGrid) {
+  const auto scene = [](const std::string& resolution) {
+    return "world: {dt: 0.01}\nbodies:\n  - name: ring\n    shape: {type: sdf, sdf: {torus: "
+           "{major_radius: 0.4, minor_radius: 0.1}}" +
+           resolution + "}\n    density: 500\n";
+  };
+  const Scene given = load_scene_string(scene(", resolution: 24"), "ring.yaml");
+  const Scene plain = load_scene_string(scene(""), "ring.yaml");
+  const SdfShape& coarse = *given.bodies[0].shape.sdf;
+  const SdfShape& fine = *plain.bodies[0].shape.sdf;
+  // The torus's bounds are 1.0 m along x and y.
+  EXPECT_NEAR(coarse.cell_size(), 1.0 / 24, 1e-12);
+  EXPECT_NEAR(fine.cell_size(), 1.0 / SdfShape::kMassCells, 1e-12);
+  // Points about one a cell of surface: a quarter as many at half the resolution.
+  const Real ratio = Real(fine.surface_point_count()) / Real(coarse.surface_point_count());
+  EXPECT_GT(ratio, 3.5);
+  EXPECT_LT(ratio, 4.5);
+  for (const char* bad : {", resolution: 7", ", resolution: 129", ", resolution: 24.5"}) {
+    try {
+      (void)load_scene_string(scene(bad), "ring.yaml");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const SceneError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("ring.yaml:4:"), std::string::npos) << m;
+      EXPECT_NE(m.find("bodies[0].shape.resolution"), std::string::npos) << m;
+      EXPECT_NE(m.find("8 to 128"), std::string::npos) << m;
+    }
+  }
 }
 
 // OpenVDB: a level set built from the same cube as the grid above, written to a .vdb file and
