@@ -19,13 +19,16 @@
 
 #include <array>
 #include <cmath>
+#include <span>
 #include <tuple>
+#include <utility>
 
 #include "collision/narrow_phase/compound_collide.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/shapes/compound_shape.hpp"
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/sdf_shape.hpp"
+#include "collision/shapes/triangle_mesh.hpp"
 
 namespace tumble {
 
@@ -51,16 +54,78 @@ bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
   return coefficients(pose_a) <= coefficients(pose_b);
 }
 
+int compare_values(Real x, Real y) {
+  return x < y ? -1 : (y < x ? 1 : 0);
+}
+
+int compare_points(std::span<const Vec3> p, std::span<const Vec3> q) {
+  if (p.size() != q.size())
+    return p.size() < q.size() ? -1 : 1;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (const int c = compare_values(p[i][k], q[i][k]))
+        return c;
+  return 0;
+}
+
+int compare_poses(const Transform& p, const Transform& q) {
+  const std::array<Real, 7> x{p.translation.x(), p.translation.y(), p.translation.z(),
+                              p.rotation.w(),    p.rotation.x(),    p.rotation.y(),
+                              p.rotation.z()};
+  const std::array<Real, 7> y{q.translation.x(), q.translation.y(), q.translation.z(),
+                              q.rotation.w(),    q.rotation.x(),    q.rotation.y(),
+                              q.rotation.z()};
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (const int c = compare_values(x[k], y[k]))
+      return c;
+  return 0;
+}
+
+// -1, 0 or 1: an order on shapes by everything they are made of (dimensions, vertices, parts and
+// their poses, a field's surface points), never by address. Only asked when the summaries of
+// runs_first tie and the poses are equal, so its cost (a walk over the data) is paid almost never.
+int compare_content(const Shape& a, const Shape& b) {
+  if (a.type != b.type)
+    return a.type < b.type ? -1 : 1;
+  for (const auto& [x, y] : {std::pair{a.radius, b.radius},
+                             {a.half_length, b.half_length},
+                             {a.half_extents.x(), b.half_extents.x()},
+                             {a.half_extents.y(), b.half_extents.y()},
+                             {a.half_extents.z(), b.half_extents.z()},
+                             {a.field_time, b.field_time}})
+    if (const int c = compare_values(x, y))
+      return c;
+  if (a.hull && b.hull && a.hull != b.hull)
+    return compare_points(a.hull->vertices(), b.hull->vertices());
+  if (a.mesh && b.mesh && a.mesh != b.mesh)
+    return compare_points(a.mesh->vertices(), b.mesh->vertices());
+  if (a.sdf && b.sdf && a.sdf != b.sdf)
+    return compare_points(a.sdf->surface_points(), b.sdf->surface_points());
+  if (a.compound && b.compound && a.compound != b.compound) {
+    const auto& p = a.compound->parts();
+    const auto& q = b.compound->parts();
+    if (p.size() != q.size())
+      return p.size() < q.size() ? -1 : 1;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (const int c = compare_poses(p[i].pose, q[i].pose))
+        return c;
+      if (const int c = compare_content(p[i].shape, q[i].shape))
+        return c;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 // Whether `a` goes first in a same-type pair (declared in pairs.hpp). The shapes' dimensions
 // decide first (they never change, so the order is stable for the life of the pair); equal shapes
 // are ordered by their poses.
 bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
-  // Hulls, compounds and fields are told apart by content (volume, vertex or part count), never
+  // Hulls, compounds and fields are summarised by content (volume, vertex or part count), never
   // by address, so the order is the same in every run. Two that differ only where these do not
-  // look (two fields of one volume) fall to their poses, and twins (the same shape at the same
-  // pose) have no order.
+  // look (two fields of one volume) fall to their poses; at one pose, to the whole of their
+  // content (compare_content); twins (the same shape at the same pose) have no order.
   const auto dimensions = [](const Shape& s) {
     const Real hull_volume = s.hull ? s.hull->volume() : Real(0);
     const int hull_vertices = s.hull ? int(s.hull->vertices().size()) : 0;
@@ -74,7 +139,9 @@ bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const T
   };
   if (dimensions(a) != dimensions(b))
     return dimensions(a) < dimensions(b);
-  return runs_first_by_pose(pose_a, pose_b);
+  if (compare_poses(pose_a, pose_b) != 0)
+    return runs_first_by_pose(pose_a, pose_b);
+  return compare_content(a, b) <= 0;
 }
 
 // runs_first for two boxes, whose other dimensions are all 0, without making Shapes.
@@ -182,6 +249,14 @@ int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   if (count == 0)
     out = Manifold{};
   return count;
+}
+
+bool twins(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b) {
+  if (detail::compare_content(a, b) != 0)
+    return false;
+  if (a.type == ShapeType::sphere)
+    return pose_a.translation == pose_b.translation;
+  return detail::compare_poses(pose_a, pose_b) == 0;
 }
 
 bool collides_by_gjk(ShapeType a, ShapeType b) {

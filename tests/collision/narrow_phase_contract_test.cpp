@@ -93,6 +93,34 @@ TEST(NarrowPhaseContract, SwappingShapesFlipsNormalAndSwapsFeaturesExactly) {
   }
 }
 
+// Two compounds of one volume and part count at one pose are not twins when their parts differ:
+// the order of the pair comes from their parts, so either call gives the mirrored answer, points
+// in the same order. Found by fuzz_narrow_phase: both calls took their own first argument first,
+// and the four merged points came out in another order.
+TEST(NarrowPhaseContract, EqualCompoundsAtOnePoseAreOrderedByTheirParts) {
+  const Quat quarter_about_y(Eigen::AngleAxis<Real>(std::numbers::pi_v<Real> / 2, Vec3::UnitY()));
+  const Shape a = compound_from_parts(
+      {{Shape::box(Vec3(1, 1, 1)), Transform{}},
+       {Shape::box(Vec3(1e-4, 1e-4, 1e-4)), Transform{Vec3(-1.75, -0.5, 0.5), Quat::Identity()}}});
+  const Shape b = compound_from_parts(
+      {{Shape::box(Vec3(1, 1, 1)), Transform{Vec3::Zero(), quarter_about_y}},
+       {Shape::box(Vec3(1e-4, 1e-4, 1e-4)), Transform{Vec3(0, 0, -1.75), Quat::Identity()}}});
+  ASSERT_EQ(a.compound->volume(), b.compound->volume());
+  for (const Real margin : {0.0, 0.01}) {
+    const Transform pose{Vec3(-4, -4, -4), Quat::Identity()};
+    Manifold ab;
+    Manifold ba;
+    ASSERT_GT(collide(a, pose, b, pose, margin, ab), 0);
+    ASSERT_EQ(collide(b, pose, a, pose, margin, ba), ab.count);
+    EXPECT_EQ(ab.normal, Vec3(-ba.normal));
+    for (int k = 0; k < ab.count; ++k) {
+      EXPECT_EQ(ab.points[k].position, ba.points[k].position) << k;
+      EXPECT_EQ(ab.points[k].depth, ba.points[k].depth) << k;
+      EXPECT_EQ(ab.points[k].feature, ba.points[k].feature.swapped()) << k;
+    }
+  }
+}
+
 // Translations on a grid of 2^-20 m: adding the far offset (an integer) is then exact, so the
 // pair-local inputs are bit-identical near and far, and a pair function that really runs in the
 // pair-local frame must give bit-identical normals and depths and positions equal up to the
@@ -210,6 +238,50 @@ TEST(NarrowPhaseDegenerate, CoincidentSpheresPushTheSmallerAlongWorldZ) {
   collide(Shape::sphere(0.5), pose, Shape::sphere(0.25), pose, 0, big_first);
   expect_sane(big_first, 1);
   EXPECT_EQ(big_first.normal, Vec3(-Vec3::UnitZ()));
+}
+
+// Equal spheres at one centre are one solid whatever their orientations: the same contact in both
+// orders, whose normal cannot flip (nothing tells A from B). Found by fuzz_narrow_phase, whose
+// twin test had asked orientations to be equal too.
+TEST(NarrowPhaseDegenerate, EqualSpheresAtOneCentreAreTwinsWhateverTheirOrientation) {
+  const Transform upright{Vec3(-4, -4, -4), Quat::Identity()};
+  const Transform turned{upright.translation, Quat(0.5, 0.5, -0.5, 0.5)};
+  Manifold ab;
+  Manifold ba;
+  collide(Shape::sphere(1e-4), upright, Shape::sphere(1e-4), turned, 0, ab);
+  collide(Shape::sphere(1e-4), turned, Shape::sphere(1e-4), upright, 0, ba);
+  expect_sane(ab, 1);
+  expect_sane(ba, 1);
+  EXPECT_EQ(ab.normal, ba.normal);
+  EXPECT_EQ(ab.points[0].position, ba.points[0].position);
+  EXPECT_EQ(ab.points[0].depth, Real(2e-4));
+}
+
+// Twins by content, not by object: two compounds built alike are twins at one pose, and not at
+// another or with a part moved; spheres are twins at one centre whatever their orientation.
+TEST(NarrowPhaseDegenerate, TwinsAreTheSameSolidInTheSamePlace) {
+  const auto ball = [](const Vec3& where) {
+    return compound_from_parts({{Shape::sphere(1e-4), Transform{where, Quat::Identity()}},
+                                {Shape::box(Vec3(0.1, 0.2, 0.3)), Transform{}}});
+  };
+  const Transform here{Vec3(-4, -4, -4), Quat::Identity()};
+  const Transform turned{here.translation, Quat(0.5, 0.5, -0.5, 0.5)};
+  const Transform there{Vec3(-4, -4, -3), Quat::Identity()};
+  EXPECT_TRUE(twins(ball(Vec3::Zero()), here, ball(Vec3::Zero()), here));
+  EXPECT_FALSE(twins(ball(Vec3::Zero()), here, ball(Vec3::Zero()), turned));
+  EXPECT_FALSE(twins(ball(Vec3::Zero()), here, ball(Vec3::Zero()), there));
+  EXPECT_FALSE(twins(ball(Vec3::Zero()), here, ball(Vec3(0, 0, 1e-3)), here));
+  EXPECT_TRUE(twins(Shape::sphere(0.5), here, Shape::sphere(0.5), turned));
+  EXPECT_FALSE(twins(Shape::sphere(0.5), here, Shape::sphere(0.25), here));
+  EXPECT_TRUE(twins(Shape::box(Vec3(1, 2, 3)), turned, Shape::box(Vec3(1, 2, 3)), turned));
+  EXPECT_FALSE(twins(Shape::box(Vec3(1, 2, 3)), here, Shape::box(Vec3(1, 2, 3)), turned));
+  EXPECT_FALSE(twins(Shape::box(Vec3(1, 2, 3)), here, Shape::box(Vec3(1, 3, 2)), here));
+  // Twins give one answer either way: the same normal, the same points.
+  Manifold ab;
+  Manifold ba;
+  ASSERT_EQ(collide(ball(Vec3::Zero()), here, ball(Vec3::Zero()), here, 0, ab), 4);
+  ASSERT_EQ(collide(ball(Vec3::Zero()), here, ball(Vec3::Zero()), here, 0, ba), 4);
+  EXPECT_EQ(ab.normal, ba.normal);
 }
 
 TEST(NarrowPhaseDegenerate, SphereCentreOnCapsuleCore) {

@@ -3,7 +3,7 @@
 //   * collide() returns the manifold's count, at most kMaxManifoldPoints;
 //   * every point, depth and the normal are finite, the normal unit, each depth at least -margin;
 //   * with A and B swapped the normal flips and the points and depths are the same, bit for bit
-//     (the normal's sign is free only for twins: the same shape at the same pose).
+//     (the normal's sign is free only for twins: the same solid at the same pose).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -53,14 +53,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   if (!ab.normal.allFinite() || std::abs(ab.normal.norm() - 1) > Real(1e-9))
     finding("normal not finite or not unit");
-  // Nothing tells A from B when both are the same shape at the same pose: then the normal
+  // Nothing tells A from B when both are the same solid in the same place: then the normal
   // need not flip (narrow_phase.hpp).
-  const bool twins = a->type == b->type && a->radius == b->radius &&
-                     a->half_length == b->half_length && a->half_extents == b->half_extents &&
-                     a->hull == b->hull && a->mesh == b->mesh && a->compound == b->compound &&
-                     a->sdf == b->sdf && pose_a.translation == pose_b.translation &&
-                     pose_a.rotation.coeffs() == pose_b.rotation.coeffs();
-  if (!twins && !(ab.normal == -ba.normal))
+  const bool same = twins(*a, pose_a, *b, pose_b);
+  if (!same && !(ab.normal == -ba.normal))
     finding("swapping A and B did not flip the normal exactly");
   const Real extent = std::max(bounding_radius(*a), bounding_radius(*b));
   for (int i = 0; i < ab.count; ++i) {
