@@ -2,6 +2,7 @@
 #include <string>
 #include <utility>
 
+#include "engine/printable_text.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -10,7 +11,7 @@ namespace {
 
 std::string format_message(const std::string& file, int line, int column, const std::string& field,
                            const std::string& reason) {
-  std::string m = file;
+  std::string m = printable_name(file);
   if (line > 0) {
     m.append(":").append(std::to_string(line)).append(":").append(std::to_string(column));
   }

@@ -9,6 +9,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -44,9 +45,26 @@ tumble::Quat quat(const std::vector<Real>& q) {
 }
 
 // YAML text from a str as it is, or from a dict or list through JSON (a subset of YAML).
+// Sets the Python error `type` with `what`. A message may quote a file name that is not UTF-8 (its
+// bytes as the system has them): such bytes are shown as \xNN rather than lost (a str made as
+// UTF-8 from them would be empty).
+void raise_with_message(PyObject* type, const char* what) {
+  PyObject* text = PyUnicode_DecodeUTF8(what, py::ssize_t(std::strlen(what)), "backslashreplace");
+  if (text == nullptr)
+    return;  // the decoding's own error stays set
+  PyErr_SetObject(type, text);
+  Py_DECREF(text);
+}
+
 std::string yaml_of(const py::object& description, const char* what) {
-  if (py::isinstance<py::str>(description))
-    return description.cast<std::string>();
+  if (py::isinstance<py::str>(description)) {
+    try {
+      return description.cast<std::string>();
+    } catch (const py::cast_error&) {
+      throw py::value_error(std::string(what) +
+                            ": the text cannot be written in UTF-8 (it holds a lone surrogate)");
+    }
+  }
   if (py::isinstance<py::dict>(description) || py::isinstance<py::list>(description))
     return py::module_::import("json").attr("dumps")(description).cast<std::string>();
   throw py::type_error(std::string(what) + ": expected a dict (or YAML text) describing it");
@@ -115,14 +133,30 @@ py::tuple sample_field(const Field& field, const py::object& points_object) {
   return py::make_tuple(distance, gradient);
 }
 
+// A file name as the system has it: a str (a name that was not UTF-8 comes back from os.fsencode
+// as the bytes it was), bytes, or a path-like object such as pathlib.Path.
+bool is_path(const py::object& path) {
+  return py::isinstance<py::str>(path) || py::isinstance<py::bytes>(path) ||
+         py::hasattr(path, "__fspath__");
+}
+
+std::string path_of(const py::object& path, const char* what) {
+  if (!is_path(path))
+    throw py::type_error(std::string(what) + ": expected a path (str, bytes or os.PathLike)");
+  return py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+}
+
 std::shared_ptr<const tumble::Scene> scene_from(const py::object& scene) {
-  if (py::isinstance<py::str>(scene))
-    return tumble::load_scene(scene.cast<std::string>());
+  if (is_path(scene))
+    return tumble::load_scene(path_of(scene, "scene"));
   try {
-    return scene.cast<std::shared_ptr<const tumble::Scene>>();
+    // pybind11 casts None to an empty pointer: refused like any other non-scene.
+    if (std::shared_ptr<const tumble::Scene> loaded =
+            scene.cast<std::shared_ptr<const tumble::Scene>>())
+      return loaded;
   } catch (const py::cast_error&) {
-    throw py::type_error("scene: expected a path (str) or a tumble.Scene");
   }
+  throw py::type_error("scene: expected a path (str, bytes or os.PathLike) or a tumble.Scene");
 }
 
 // A numpy view of `data` (shape `shape`), kept alive by `owner`.
@@ -239,9 +273,9 @@ PYBIND11_MODULE(_tumble, m) {
       if (p)
         std::rethrow_exception(p);
     } catch (const tumble::SceneError& e) {
-      scene_error(e.what());
+      raise_with_message(scene_error.ptr(), e.what());
     } catch (const tumble::Error& e) {
-      error(e.what());
+      raise_with_message(error.ptr(), e.what());
     }
   });
 
@@ -256,9 +290,9 @@ PYBIND11_MODULE(_tumble, m) {
       });
   m.def(
       "load_scene",
-      [](const std::string& path, bool allow_outside_files) {
-        return std::const_pointer_cast<tumble::Scene>(
-            tumble::load_scene(path, {.allow_outside_files = allow_outside_files}));
+      [](const py::object& path, bool allow_outside_files) {
+        return std::const_pointer_cast<tumble::Scene>(tumble::load_scene(
+            path_of(path, "path"), {.allow_outside_files = allow_outside_files}));
       },
       py::arg("path"), py::kw_only(), py::arg("allow_outside_files") = false,
       "Loads and checks a YAML scene; raises tumble.SceneError. The files it names must lie in "
@@ -410,8 +444,9 @@ PYBIND11_MODULE(_tumble, m) {
                              "Whether the value is the distance everywhere (a lone primitive).");
 
   py::class_<tumble::NeuralSdf>(m, "NeuralSdf")
-      .def(py::init([](const std::string& path) {
-             return std::make_unique<tumble::NeuralSdf>(tumble::load_neural_sdf_file(path));
+      .def(py::init([](const py::object& path) {
+             return std::make_unique<tumble::NeuralSdf>(
+                 tumble::load_neural_sdf_file(path_of(path, "path")));
            }),
            py::arg("path"),
            "A neural signed distance field from its weights file (docs/sdf.md, \"Neural SDFs\"; "

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <string>
 
-#include "scenes/printable_text.hpp"
+#include "engine/printable_text.hpp"
 #include "scenes/scene_files.hpp"
 #include "tumble/error.hpp"
 
@@ -93,7 +93,7 @@ std::vector<CcdQuery> read_ccd_query_file(const std::filesystem::path& path) {
   std::string why;
   const std::optional<std::string> text = regular_file_text(path, why);
   if (!text)
-    throw Error(path.string() + ": cannot open (" + why + ")");
+    throw Error(printable_name(path.string()) + ": cannot open (" + why + ")");
   return read_ccd_query_text(*text, path.string());
 }
 

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "engine/printable_text.hpp"
 #include "engine/scene_limits.hpp"
-#include "scenes/printable_text.hpp"
 #include "scenes/scene_files.hpp"
 
 namespace tumble {
@@ -126,7 +126,7 @@ std::string obj_text(const std::filesystem::path& path) {
   std::string why;
   if (std::optional<std::string> text = regular_file_text(path, why))
     return std::move(*text);
-  throw ObjError("cannot open OBJ file '" + path.string() + "': " + why);
+  throw ObjError("cannot open OBJ file '" + printable_name(path.string()) + "': " + why);
 }
 
 }  // namespace

@@ -45,6 +45,11 @@ std::optional<std::filesystem::path> outside_folder_of(const std::string& source
 }
 
 bool is_regular_file_within_limits(const std::filesystem::path& path, std::string& why) {
+  // The system reads a name up to its first NUL byte: "scene.yaml\0.txt" would open scene.yaml.
+  if (path.native().find('\0') != std::string::npos) {
+    why = "the file name holds a NUL byte";
+    return false;
+  }
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (status.type() == std::filesystem::file_type::not_found) {

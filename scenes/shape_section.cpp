@@ -161,7 +161,7 @@ Shape Loader::load_hull(const Fields& f, const std::string& path, Vec3* centre_o
       points.push_back(read_vector<3>(point, index(field, i), "[x, y, z]", "metres", kCoordinate));
     }
   } else {
-    const std::string name = read_word(*file_entry, field, "an OBJ file name");
+    const std::string name = read_name(*file_entry, field, "an OBJ file name");
     // Only the vertex lines matter for a hull, read by the OBJ reader meshes use (which names
     // a bad line by its number, without echoing the line).
     try {

@@ -24,8 +24,8 @@
 
 #include "collision/sdf/neural_sdf.hpp"
 #include "collision/sdf/sdf_tree.hpp"
+#include "engine/printable_text.hpp"
 #include "engine/scene_limits.hpp"
-#include "scenes/printable_text.hpp"
 #include "scenes/query_file.hpp"
 #include "scenes/scene_loader.hpp"
 #include "scenes/sweep_file.hpp"

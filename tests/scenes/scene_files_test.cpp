@@ -130,6 +130,34 @@ TEST(SceneFiles, AHullFileIsReadLikeAMeshFile) {
   EXPECT_EQ(refusal(f.scene_with("{type: hull, file: points.obj}")), "");
 }
 
+// The system reads a file name up to its first NUL byte, so a name holding one would open another
+// file ("inside.obj\0.txt" is inside.obj): refused, whether the scene's own name (as the C++ and
+// Python APIs can pass it) or one the scene names (YAML's "\0" escape). Messages show control
+// bytes of a name as \xNN, so that a message is never cut at a NUL. Found by the Python argument
+// fuzz (python/tests/test_argument_fuzz.py): World("a\0b") raised an error whose message was "a".
+TEST(SceneFiles, ANameHoldingANulByteIsRefusedAndShownEscaped) {
+  const Folders f;
+  const std::string scene = (f.scene_dir / "scene.yaml").string();
+  (void)f.scene_with("{type: mesh, file: meshes/inside.obj}");
+  ASSERT_EQ(refusal(scene), "");
+  const std::string why = refusal(scene + std::string(1, '\0') + ".txt");
+  EXPECT_NE(
+      why.find("scene.yaml\\x00.txt: cannot open scene file (the file name holds a NUL byte)"),
+      std::string::npos)
+      << why;
+  for (const std::string shape :
+       {R"({type: mesh, file: "meshes/inside.obj\0.txt"})",
+        R"({type: hull, file: "meshes/inside.obj\0.txt"})",
+        R"({type: sdf, sdf: {grid: {file: "meshes/inside.obj\0.txt", cell: 0.2}}})",
+        R"({type: sdf, sdf: {neural: {file: "meshes/inside.obj\0.txt"}}})"}) {
+    const std::string named = refusal(f.scene_with(shape));
+    EXPECT_NE(named.find("scene.yaml:4:"), std::string::npos) << named;
+    EXPECT_NE(named.find(".file'"), std::string::npos) << named;
+    EXPECT_EQ(named.find(std::string(1, '\0')), std::string::npos) << named;
+  }
+  EXPECT_NE(refusal("").find("(an empty file name): cannot open scene file"), std::string::npos);
+}
+
 // A file past the size limit (1 GiB) is refused before it is read, whether the scene itself, a
 // mesh, a hull's points or an OpenVDB volume; a sparse file stands in for a large one.
 TEST(SceneFiles, AFileLargerThanTheLimitIsRefusedBeforeItIsRead) {
