@@ -49,6 +49,14 @@ CHILD = textwrap.dedent(
     row = tumble.World(tumble.load_scene_text(ROW, "row.yaml"))
     foreign = row.body("r8")
 
+    class BadFloat:
+        # A number whose conversion fails (its error propagates, as any Python call's would).
+        def __float__(self):
+            raise TypeError("no float here")
+
+        def __index__(self):
+            raise TypeError("no index here")
+
     nan, inf = float("nan"), float("inf")
     hostile = [
         None, True, 0, -1, 2**31, 2**63, -2**63, 2**200, 1.5, nan, inf, -inf, 1e308, -0.0,
@@ -62,6 +70,11 @@ CHILD = textwrap.dedent(
         np.zeros((5, 2, 3)), np.zeros((2, 5, 3), dtype=complex), np.zeros((2, 5, 3), dtype=object),
         np.broadcast_to(np.zeros(3), (2, 5, 3)), np.array([0, 1, 2]), np.array([-1]),
         np.array([[0]]), np.array([0.5]), np.zeros((1, 4)), np.zeros((4, 3)), foreign, object(),
+        BadFloat(), [BadFloat()] * 3, [[[0.0] * 3] * 5] * 2, np.zeros((2, 5, 3))[::-1],
+        np.zeros((2, 5, 3))[:, ::-1, :], memoryview(b"abc"), np.float32(1.5), np.int8(-1),
+        np.uint64(2**64 - 1), [1] * 100000, {"sphere": {"radius": 1}}, "{sphere: {radius: 1}}",
+        {"torus": {"major_radius": 1, "minor_radius": 2}}, {"box": {"half_extents": [1, 1]}},
+        "[" * 300 + "]" * 300, "&a [*a]", "\t\n", "scenes/../../../etc/passwd",
     ]
 
     def pick(values):
