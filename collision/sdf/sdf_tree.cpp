@@ -150,6 +150,13 @@ SdfTree::SdfTree(const SdfNode& root) {
   bounds_ = bounds_of(0);
 }
 
+bool SdfTree::is_one_lipschitz() const {
+  return std::none_of(nodes_.begin(), nodes_.end(), [](const Flat& f) {
+    return f.kind == SdfKind::grid || f.kind == SdfKind::neural || f.kind == SdfKind::level_set ||
+           f.kind == SdfKind::morph;
+  });
+}
+
 bool SdfTree::is_bounded() const {
   return bounds_.min.allFinite() && bounds_.max.allFinite();
 }

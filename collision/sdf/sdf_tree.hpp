@@ -118,6 +118,11 @@ class SdfTree {
   // tricubic), the least of all its level sets. A contact or distance that evaluates the field
   // farther from its surface than this (at a sphere's centre) cannot trust the value.
   Real reach() const { return reach_; }
+  // Whether phi changes by at most the distance moved (its gradient no longer than 1) everywhere,
+  // exactly: analytic primitives under poses and their unions, intersections, differences and
+  // smooth unions. Grids, level sets and networks approximate it (an interpolant's slope can pass
+  // 1), and a morph moves with time.
+  bool is_one_lipschitz() const;
 
  private:
   struct Flat {

@@ -40,6 +40,7 @@ SdfShape::SdfShape(const SdfNode& root, int cells_along_longest) : tree_(root) {
     throw Error("an SDF shape's resolution must be " + std::to_string(kMinCells) + " to " +
                 std::to_string(kMaxCells) + " cells along its longest side, got " +
                 std::to_string(cells_along_longest));
+  one_lipschitz_ = tree_.is_one_lipschitz();
   if (!tree_.is_bounded())
     throw Error(
         "an SDF shape must be a bounded solid: a half-space is unbounded (intersect it with a "

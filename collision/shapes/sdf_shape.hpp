@@ -70,6 +70,8 @@ class SdfShape {
   // The grid's cell size: the spacing of the surface points, and the scale of their error.
   Real cell_size() const { return cell_; }
   bool is_exact() const { return tree_.is_exact(); }
+  // SdfTree::is_one_lipschitz, kept at construction.
+  bool is_one_lipschitz() const { return one_lipschitz_; }
   // How far from the surface the field's values can be trusted (SdfTree::reach).
   Real reach() const { return tree_.reach(); }
 
@@ -131,6 +133,7 @@ class SdfShape {
   Real inner_radius_ = 0;
   Real cell_ = 0;
   Real surface_motion_ = 0;
+  bool one_lipschitz_ = false;
   std::vector<Vec3> points_;
   std::vector<Vec3> normals_;
   Real bucket_ = 1;
