@@ -30,8 +30,6 @@ std::string printable(std::string_view s) {
 }
 
 std::string printable_name(std::string_view name) {
-  if (name.empty())
-    return "(an empty file name)";
   std::string out;
   for (const char c : name)
     append_printable(out, static_cast<unsigned char>(c));

@@ -44,7 +44,6 @@ tumble::Quat quat(const std::vector<Real>& q) {
   return tumble::Quat(q[0], q[1], q[2], q[3]);
 }
 
-// YAML text from a str as it is, or from a dict or list through JSON (a subset of YAML).
 // Sets the Python error `type` with `what`. A message may quote a file name that is not UTF-8 (its
 // bytes as the system has them): such bytes are shown as \xNN rather than lost (a str made as
 // UTF-8 from them would be empty).
@@ -56,6 +55,7 @@ void raise_with_message(PyObject* type, const char* what) {
   Py_DECREF(text);
 }
 
+// YAML text from a str as it is, or from a dict or list through JSON (a subset of YAML).
 std::string yaml_of(const py::object& description, const char* what) {
   if (py::isinstance<py::str>(description)) {
     try {
@@ -66,7 +66,13 @@ std::string yaml_of(const py::object& description, const char* what) {
     }
   }
   if (py::isinstance<py::dict>(description) || py::isinstance<py::list>(description))
-    return py::module_::import("json").attr("dumps")(description).cast<std::string>();
+    try {
+      return py::module_::import("json").attr("dumps")(description).cast<std::string>();
+    } catch (py::error_already_set& e) {
+      if (e.matches(PyExc_RecursionError))
+        throw py::value_error(std::string(what) + ": nested too deeply");
+      throw;
+    }
   throw py::type_error(std::string(what) + ": expected a dict (or YAML text) describing it");
 }
 

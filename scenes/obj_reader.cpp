@@ -41,8 +41,8 @@ CheckedRecords checked_records(const std::string& text, const std::string& name)
     std::string tag;
     fields >> tag;
     const auto refuse = [&](const std::string& why) {
-      throw ObjError("cannot read OBJ file '" + name + "': line " + std::to_string(number) + ": " +
-                     why);
+      throw ObjError("cannot read OBJ file '" + printable_name(name) + "': line " +
+                     std::to_string(number) + ": " + why);
     };
     if (tag == "v") {
       kept += "v 0 0 0";
@@ -100,7 +100,8 @@ ObjMesh parse_obj(const std::string& text, const std::string& name) {
     std::string why = reader.Error();
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r'))
       why.pop_back();
-    throw ObjError("cannot read OBJ file '" + name + "': " + (why.empty() ? "parse error" : why));
+    throw ObjError("cannot read OBJ file '" + printable_name(name) +
+                   "': " + (why.empty() ? "parse error" : why));
   }
   ObjMesh mesh;
   mesh.vertices = std::move(records.vertices);
@@ -111,9 +112,9 @@ ObjMesh parse_obj(const std::string& text, const std::string& name) {
       for (int k = 0; k < 3; ++k) {
         const int index = indices[i + std::size_t(k)].vertex_index;
         if (index < 0 || std::size_t(index) >= mesh.vertices.size())
-          throw ObjError("cannot read OBJ file '" + name + "': face " + std::to_string(i / 3) +
-                         " uses vertex " + std::to_string(index + 1) + " but the file has " +
-                         std::to_string(mesh.vertices.size()) + " vertices");
+          throw ObjError("cannot read OBJ file '" + printable_name(name) + "': face " +
+                         std::to_string(i / 3) + " uses vertex " + std::to_string(index + 1) +
+                         " but the file has " + std::to_string(mesh.vertices.size()) + " vertices");
         t[k] = std::int32_t(index);
       }
       mesh.triangles.push_back(t);
@@ -134,7 +135,8 @@ std::string obj_text(const std::filesystem::path& path) {
 ObjMesh read_obj_string(const std::string& text, const std::string& name) {
   ObjMesh mesh = parse_obj(text, name);
   if (mesh.triangles.empty())
-    throw ObjError("cannot read OBJ file '" + name + "': it has no faces ('f' lines)");
+    throw ObjError("cannot read OBJ file '" + printable_name(name) +
+                   "': it has no faces ('f' lines)");
   return mesh;
 }
 

@@ -225,7 +225,8 @@ Scene load_scene_file(const std::filesystem::path& path) {
 
 Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOverride> overrides,
                       const SceneLoadOptions& options) {
-  const std::string source = path.string();
+  // An empty name is said to be one, not left as a message that starts with ": ".
+  const std::string source = path.empty() ? "(an empty file name)" : path.string();
   std::string text;
   try {
     text = read_file(path, source);

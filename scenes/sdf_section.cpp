@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "engine/printable_text.hpp"
 #include "scenes/neural_sdf_file.hpp"
 #include "scenes/obj_reader.hpp"
 #include "scenes/scene_files.hpp"
@@ -242,7 +243,8 @@ SdfNode Loader::load_sdf_grid(const Fields& params, const std::string& here) con
   const Real size = vdb_file ? 0 : read_real(*cell, child(here, "cell"), kCell);
   const std::filesystem::path where = referenced_file(name, file->mark(), child(here, "file"));
   if (std::string why; vdb_file && !is_regular_file_within_limits(where, why))
-    fail(file->mark(), child(here, "file"), "cannot read '" + where.string() + "': " + why);
+    fail(file->mark(), child(here, "file"),
+         "cannot read '" + printable_name(where.string()) + "': " + why);
   try {
     if (vdb_file)
       return SdfNode::from_level_set(VdbLevelSet::load(where), how);

@@ -25,7 +25,7 @@ constexpr std::array<std::string_view, 4> kMeshKeys{"type", "vertices", "triangl
 constexpr std::array<std::string_view, 2> kCompoundKeys{"type", "parts"};
 constexpr std::array<std::string_view, 3> kPartKeys{"shape", "position", "orientation"};
 constexpr std::array<std::string_view, 3> kSdfKeys{"type", "sdf", "resolution"};
-constexpr IntSpec kFieldResolution{"a whole number of cells", "8 to 128", SdfShape::kMinCells,
+constexpr IntSpec kFieldResolution{"a whole number of cells", "8 to 96", SdfShape::kMinCells,
                                    SdfShape::kMaxCells};
 constexpr IntSpec kVertexIndex{"a vertex index", "0 to the number of vertices - 1", 0,
                                std::int64_t(1) << 31};
@@ -118,10 +118,11 @@ Shape Loader::build_shape(const Entry& e, const std::string& path, Vec3* centre_
   if (t == "sdf") {
     check_known(f, kSdfKeys);
     const Entry& field = require("sdf", "the field: an SDF node such as {torus: {...}}");
-    const SdfNode root = load_sdf_node(field.value, field.mark(), child(path, "sdf"), 1);
+    // The resolution first: a grid or level set in the node may take seconds to build.
     int cells = SdfShape::kMassCells;
     if (const Entry* r = f.find("resolution"))
       cells = int(read_int(*r, child(path, "resolution"), kFieldResolution));
+    const SdfNode root = load_sdf_node(field.value, field.mark(), child(path, "sdf"), 1);
     try {
       return sdf_shape(root, centre_of_mass, cells);
     } catch (const Error& error) {

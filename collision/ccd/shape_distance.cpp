@@ -151,7 +151,10 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
   Real margin = max_distance;
   const auto field_margin = [&](const Shape& field, const Transform& pose_field, const Shape& other,
                                 const Transform& pose_other) {
-    if (field.type != ShapeType::sdf || !field.sdf->is_one_lipschitz())
+    // The other may not be a field that is not 1-Lipschitz: its candidates' culling counts on
+    // the margin to cover its interpolation's error.
+    if (field.type != ShapeType::sdf || !field.sdf->is_one_lipschitz() ||
+        (other.type == ShapeType::sdf && !other.sdf->is_one_lipschitz()))
       return;
     const Real r = bounding_radius(other);
     const Real phi =

@@ -23,7 +23,9 @@ struct DistanceBound {
   bool separating_normal = true;
 };
 
-// `max_distance`: beyond it the answer may be any bound >= max_distance [m].
+// `max_distance`: beyond it the answer may be any bound >= max_distance [m]. When nothing is
+// found within the margin the narrow phase was asked with, that margin is the bound: at most
+// max_distance (less against a 1-Lipschitz field, shape_distance.cpp).
 DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
                                    const Transform& pose_b, Real max_distance);
 

@@ -151,9 +151,26 @@ SdfTree::SdfTree(const SdfNode& root) {
 }
 
 bool SdfTree::is_one_lipschitz() const {
-  return std::none_of(nodes_.begin(), nodes_.end(), [](const Flat& f) {
-    return f.kind == SdfKind::grid || f.kind == SdfKind::neural || f.kind == SdfKind::level_set ||
-           f.kind == SdfKind::morph;
+  return std::all_of(nodes_.begin(), nodes_.end(), [](const Flat& f) {
+    switch (f.kind) {  // every kind named: a new one must say which it is
+      case SdfKind::sphere:
+      case SdfKind::box:
+      case SdfKind::capsule:
+      case SdfKind::cylinder:
+      case SdfKind::torus:
+      case SdfKind::plane:
+      case SdfKind::union_of:
+      case SdfKind::intersection_of:
+      case SdfKind::difference_of:
+      case SdfKind::smooth_union_of:  // its gradient a weighted mean of its operands'
+        return true;
+      case SdfKind::grid:
+      case SdfKind::neural:
+      case SdfKind::level_set:
+      case SdfKind::morph:
+        return false;
+    }
+    return false;
   });
 }
 

@@ -121,6 +121,11 @@ SdfShape::SdfShape(const SdfNode& root, int cells_along_longest) : tree_(root) {
   if (!(moments.mass > 0) || tree_points.empty())
     throw Error("an SDF shape must enclose a solid at least a grid cell across (" +
                 std::to_string(cell_) + " m here)");
+  if (tree_points.size() > std::size_t(kMaxSurfacePoints))
+    throw Error("an SDF shape may have at most " + std::to_string(kMaxSurfacePoints) +
+                " surface points, and this one has " + std::to_string(tree_points.size()) + " at " +
+                std::to_string(cells_along_longest) +
+                " cells along its longest side: lower its resolution");
   volume_ = moments.mass;
   const Vec3 centre = moments.first / moments.mass;
   tree_origin_ = centre;

@@ -31,11 +31,16 @@ class SdfShape {
   static constexpr int kMassCells = 48;
   static constexpr int kSubcells = 4;
   // The resolutions a shape may have. Cost and surface points grow as cells^2 (the cells the
-  // surface crosses) plus cells^3 / 64 (the whole grid, one sample a cell): 128 takes about seven
-  // times as long as 48 to build and has seven times the points; 8 is coarse enough for a
-  // placeholder, fine enough to see a solid as thick as an eighth of its length.
+  // surface crosses) plus cells^3 / 64 (the whole grid, one sample a cell): 96 takes about four
+  // times as long as 48 to build and has four times the points (a cube's six faces about 55,000);
+  // 8 is coarse enough for a placeholder, fine enough to see a solid as thick as an eighth of its
+  // length.
   static constexpr int kMinCells = 8;
-  static constexpr int kMaxCells = 128;
+  static constexpr int kMaxCells = 96;
+  // The narrow phase numbers a field's points in 16 bits of a contact's feature id (which the
+  // solver's warm start matches from step to step): a solid with more is refused, naming a
+  // resolution to lower.
+  static constexpr int kMaxSurfacePoints = 65536;
 
   // Throws tumble::Error when the field has no bounded solid (a half-space alone, or a solid
   // smaller than the grid can see: no cell centre inside), or when `cells` (the grid's cells

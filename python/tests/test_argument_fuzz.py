@@ -159,6 +159,7 @@ CHILD = textwrap.dedent(
             assert np.all(np.isfinite(s)), (name, s)
         assert np.all(np.isfinite(batch.observe())), batch.observe()
 
+    succeeded = {}
     for case in range(cases):
         name, make = calls[int(rng.integers(len(calls)))]
         function, args = make()
@@ -180,10 +181,17 @@ CHILD = textwrap.dedent(
             # A clear message, never an empty one or pybind11's internal wording.
             message = str(error)
             assert message and "Unable to cast" not in message, (name, type(error), message)
-            if isinstance(error, tumble.Error) and "not finite" in message:
-                world = tumble.World(scene)  # a world that stopped on a non-finite state
+            if isinstance(error, tumble.Error) and "non-finite" in message:
+                # A world that stopped on a non-finite state (NonFiniteStateError): a new one.
+                world = tumble.World(scene)
                 batch = tumble.BatchWorld(scene, 2, threads=1)
+        else:
+            succeeded[name] = succeeded.get(name, 0) + 1
         finite_state()
+    # Every function was also called in ways it takes: a check that refused everything would
+    # pass the loop above.
+    never = sorted(name for name, _ in calls if succeeded.get(name, 0) == 0)
+    assert not never, f"never returned: {never}"
     print("done", flush=True)
     '''
 )
@@ -222,3 +230,9 @@ def test_what_the_fuzz_found():
         tumble.World(os.fsdecode(b"\xff.yaml"))
     with pytest.raises(ValueError, match="UTF-8"):
         tumble.Sdf("\udcff")
+    # A description nested past Python's recursion limit (found in review): a ValueError.
+    deep = {"sphere": {"radius": 1}}
+    for _ in range(100000):
+        deep = {"union": [deep, deep]}
+    with pytest.raises(ValueError, match="nested too deeply"):
+        tumble.Sdf(deep)

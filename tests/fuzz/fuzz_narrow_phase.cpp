@@ -58,6 +58,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool same = twins(*a, pose_a, *b, pose_b);
   if (!same && !(ab.normal == -ba.normal))
     finding("swapping A and B did not flip the normal exactly");
+  if (same && !(ab.normal == ba.normal))
+    finding("twins gave two normals");
   const Real extent = std::max(bounding_radius(*a), bounding_radius(*b));
   for (int i = 0; i < ab.count; ++i) {
     const ContactPoint& p = ab.points[static_cast<std::size_t>(i)];

@@ -193,7 +193,7 @@ TEST(SdfYaml, AMorphReadsBothFieldsAndItsTimes) {
 }
 
 // A shape's resolution: the cells of its mass grid along the longest side (48 unless given),
-// which set the spacing of its surface points; outside 8 to 128 it is refused by line and field.
+// which set the spacing of its surface points; outside 8 to 96 it is refused by line and field.
 TEST(SdfYaml, AShapesResolutionSetsItsGrid) {
   const auto scene = [](const std::string& resolution) {
     return "world: {dt: 0.01}\nbodies:\n  - name: ring\n    shape: {type: sdf, sdf: {torus: "
@@ -211,7 +211,7 @@ TEST(SdfYaml, AShapesResolutionSetsItsGrid) {
   const Real ratio = Real(fine.surface_point_count()) / Real(coarse.surface_point_count());
   EXPECT_GT(ratio, 3.5);
   EXPECT_LT(ratio, 4.5);
-  for (const char* bad : {", resolution: 7", ", resolution: 129", ", resolution: 24.5"}) {
+  for (const char* bad : {", resolution: 7", ", resolution: 97", ", resolution: 24.5"}) {
     try {
       (void)load_scene_string(scene(bad), "ring.yaml");
       ADD_FAILURE() << bad << " was accepted";
@@ -219,7 +219,7 @@ TEST(SdfYaml, AShapesResolutionSetsItsGrid) {
       const std::string m = e.what();
       EXPECT_NE(m.find("ring.yaml:4:"), std::string::npos) << m;
       EXPECT_NE(m.find("bodies[0].shape.resolution"), std::string::npos) << m;
-      EXPECT_NE(m.find("8 to 128"), std::string::npos) << m;
+      EXPECT_NE(m.find("8 to 96"), std::string::npos) << m;
     }
   }
 }
