@@ -36,36 +36,8 @@ namespace detail {
 
 namespace {
 
-// Two shapes of equal dimensions: ordered by their offset along a fixed generic direction (1,
-// sqrt2, sqrt3)/sqrt6, which no axis-aligned or diagonal offset is perpendicular to, so the order
-// of two bodies stacked, side by side or in a row does not flip from noise. Exact ties fall to the
-// pose coefficients.
-bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
-  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
-                                Real(0.70710678118654757)};
-  const Vec3 offset = pose_a.translation - pose_b.translation;
-  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
-  if (along != 0)
-    return along < 0;
-  const auto coefficients = [](const Transform& p) {
-    return std::make_tuple(p.translation.x(), p.translation.y(), p.translation.z(), p.rotation.w(),
-                           p.rotation.x(), p.rotation.y(), p.rotation.z());
-  };
-  return coefficients(pose_a) <= coefficients(pose_b);
-}
-
 int compare_values(Real x, Real y) {
   return x < y ? -1 : (y < x ? 1 : 0);
-}
-
-int compare_points(std::span<const Vec3> p, std::span<const Vec3> q) {
-  if (p.size() != q.size())
-    return p.size() < q.size() ? -1 : 1;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    for (int k = 0; k < 3; ++k)
-      if (const int c = compare_values(p[i][k], q[i][k]))
-        return c;
-  return 0;
 }
 
 int compare_poses(const Transform& p, const Transform& q) {
@@ -78,6 +50,30 @@ int compare_poses(const Transform& p, const Transform& q) {
   for (std::size_t k = 0; k < x.size(); ++k)
     if (const int c = compare_values(x[k], y[k]))
       return c;
+  return 0;
+}
+
+// Two shapes of equal dimensions: ordered by their offset along a fixed generic direction (1,
+// sqrt2, sqrt3)/sqrt6, which no axis-aligned or diagonal offset is perpendicular to, so the order
+// of two bodies stacked, side by side or in a row does not flip from noise. Exact ties fall to the
+// pose coefficients.
+bool runs_first_by_pose(const Transform& pose_a, const Transform& pose_b) {
+  constexpr Real kGeneric[3] = {Real(0.40824829046386302), Real(0.57735026918962584),
+                                Real(0.70710678118654757)};
+  const Vec3 offset = pose_a.translation - pose_b.translation;
+  const Real along = kGeneric[0] * offset.x() + kGeneric[1] * offset.y() + kGeneric[2] * offset.z();
+  if (along != 0)
+    return along < 0;
+  return compare_poses(pose_a, pose_b) <= 0;
+}
+
+int compare_points(std::span<const Vec3> p, std::span<const Vec3> q) {
+  if (p.size() != q.size())
+    return p.size() < q.size() ? -1 : 1;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (const int c = compare_values(p[i][k], q[i][k]))
+        return c;
   return 0;
 }
 
@@ -137,8 +133,10 @@ bool runs_first(const Shape& a, const Transform& pose_a, const Shape& b, const T
                            s.half_extents.z(), hull_volume, hull_vertices, compound_volume,
                            compound_parts, field_volume, field_radius);
   };
-  if (dimensions(a) != dimensions(b))
-    return dimensions(a) < dimensions(b);
+  const auto summary_a = dimensions(a);
+  const auto summary_b = dimensions(b);
+  if (summary_a != summary_b)
+    return summary_a < summary_b;
   if (compare_poses(pose_a, pose_b) != 0)
     return runs_first_by_pose(pose_a, pose_b);
   return compare_content(a, b) <= 0;
