@@ -1,7 +1,9 @@
 #include "collision/ccd/shape_distance.hpp"
 
 #include <cmath>
+#include <limits>
 
+#include "collision/ccd/ray_cast.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
 #include "collision/narrow_phase/narrow_phase.hpp"
@@ -67,6 +69,66 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
   return out;
 }
 
+// A lower bound of the distance between a field and another shape from their bounding balls
+// (centre c and radius r about each shape's origin), for the price of a sample or two; the
+// largest of:
+//   - |c_A - c_B| - r_A - r_B: the balls' gap;
+//   - phi(c_O) - r_O for a 1-Lipschitz field of phi and another shape O: phi lies below the
+//     distance to the field's solid outside it and changes by at most r_O over O's ball;
+//   - d_O(c_F) - r_F for a field F and a shape O that is not a field, d_O the distance to O
+//     (exact for the convex shapes and compounds of them, the distance to the surface for a mesh).
+// `normal` runs from B to A along the gradient of the measure that gave the bound (the centres'
+// line for the last, whose distance comes without one). Returned only when it exceeds both a
+// quarter of the smaller radius (nearer, the bound is too loose to step by) and `floor`;
+// otherwise the distance is -infinity (no bound).
+DistanceBound field_ball_bound(const Shape& a, const Transform& pose_a, const Shape& b,
+                               const Transform& pose_b, Real floor) {
+  DistanceBound best;
+  best.distance = -std::numeric_limits<Real>::infinity();
+  best.separating_normal = false;
+  const Real radius_a = bounding_radius(a);
+  const Real radius_b = bounding_radius(b);
+  if (!std::isfinite(radius_a) && !std::isfinite(radius_b))
+    return best;
+  const Vec3 centres = pose_a.translation - pose_b.translation;  // from B to A
+  const Vec3 along_centres = centres.norm() > 0 ? Vec3(centres.normalized()) : Vec3::UnitZ();
+  const auto consider = [&](Real bound, const Vec3& normal) {
+    if (bound > best.distance) {
+      best.distance = bound;
+      best.normal = normal;
+    }
+  };
+  // A hair less than each bound, for the rounding of the measures.
+  const auto hair = [](Real r, Real d) { return Real(1e-9) * (r + std::abs(d)); };
+  if (std::isfinite(radius_a) && std::isfinite(radius_b)) {
+    const Real gap = centres.norm();
+    consider(gap - radius_a - radius_b - hair(radius_a + radius_b, gap), along_centres);
+  }
+  const auto from_field = [&](const Shape& field, const Transform& pose_field, Real field_radius,
+                              const Shape& other, const Transform& pose_other, Real other_radius,
+                              Real sign) {
+    if (field.type != ShapeType::sdf)
+      return;
+    if (field.sdf->is_one_lipschitz() && std::isfinite(other_radius)) {
+      const sdf::Sample at =
+          field.sdf->sample(pose_field.apply_inverse(pose_other.translation), field.field_time);
+      const Vec3 outward = pose_field.rotate(at.gradient);
+      consider(at.distance - other_radius - hair(other_radius, at.distance),
+               outward.norm() > 0 ? Vec3(sign * outward.normalized()) : along_centres);
+    }
+    if (other.type != ShapeType::sdf && std::isfinite(field_radius)) {
+      const Real d = signed_distance(other, pose_other, pose_field.translation);
+      consider(d - field_radius - hair(field_radius, d), along_centres);
+    }
+  };
+  from_field(b, pose_b, radius_b, a, pose_a, radius_a, Real(1));
+  from_field(a, pose_a, radius_a, b, pose_b, radius_b, Real(-1));
+  const Real smaller = std::min(radius_a, radius_b);
+  if (!(best.distance > Real(0.25) * smaller) || !(best.distance > floor))
+    best.distance = -std::numeric_limits<Real>::infinity();
+  return best;
+}
+
 bool is_convex(const Shape& s) {
   return s.type != ShapeType::mesh && s.type != ShapeType::plane && s.type != ShapeType::compound;
 }
@@ -110,7 +172,7 @@ DistanceBound box_box_separation(const Vec3& half_a, const Transform& pose_a, co
 }
 
 DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
-                                   const Transform& pose_b, Real max_distance) {
+                                   const Transform& pose_b, Real max_distance, Real stop_distance) {
   if (a.type == ShapeType::box && b.type == ShapeType::box)
     return box_box_separation(a.half_extents, pose_a, b.half_extents, pose_b);
   if (b.type == ShapeType::mesh && is_convex(a))
@@ -139,6 +201,16 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
     DistanceBound d = shape_distance_bound(b, pose_b, a, pose_a, max_distance);
     d.normal = -d.normal;
     return d;
+  }
+  // Far from a field, the balls that hold the shapes give a lower bound of their distance for
+  // the price of a sample or two (field_ball_bound). Conservative advancement of a fast pair
+  // spends most of its advances far apart, each of which asked the narrow phase about every
+  // surface point within reach; it asks only once the bound falls to a quarter of the smaller
+  // radius, where it is too loose to step by, or to where the advancement stops.
+  if (a.type == ShapeType::sdf || b.type == ShapeType::sdf) {
+    const DistanceBound ball_bound = field_ball_bound(a, pose_a, b, pose_b, stop_distance);
+    if (ball_bound.distance > -std::numeric_limits<Real>::infinity())
+      return ball_bound;
   }
   // Every other current pair of the narrow phase reports the exact signed distance of its
   // closest features as the deepest point's depth (sphere, capsule and plane pairs by closed

@@ -25,9 +25,13 @@ struct DistanceBound {
 
 // `max_distance`: beyond it the answer may be any bound >= max_distance [m]. When nothing is
 // found within the margin the narrow phase was asked with, that margin is the bound: at most
-// max_distance (less against a 1-Lipschitz field, shape_distance.cpp).
+// max_distance (less against a 1-Lipschitz field, shape_distance.cpp). Where a field is one of
+// the two, a cheaper and looser bound from the shapes' bounding balls is returned while it
+// exceeds `stop_distance` (conservative advancement's target plus tolerance, where it stops: a
+// loose bound there would stop it early) and a quarter of the smaller bounding radius.
 DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
-                                   const Transform& pose_b, Real max_distance);
+                                   const Transform& pose_b, Real max_distance,
+                                   Real stop_distance = 0);
 
 // Separating-axis lower bound of the distance between two boxes: the largest gap along the 15
 // axes of the box-box test (3 + 3 face normals, 9 edge cross products). It equals the distance
