@@ -221,8 +221,10 @@ Moments integrate_by_slices(const std::function<Real(Real)>& rho_squared,
 TEST(ShapeProperties, ClosedFormsMatchIntegrationBySlices) {
   // Capsules, including the sphere (a = 0) and a long thin one; each cap is a separate piece so
   // the integrand is a polynomial on every piece.
-  for (const auto& [r, a] :
+  for (const auto& [radius, half_length] :
        std::vector<std::pair<Real, Real>>{{0.4, 0.9}, {0.4, 0.0}, {0.05, 1.5}, {1.3, 0.2}}) {
+    // Copies: clang before 16 cannot capture a structured binding in a lambda.
+    const Real r = radius, a = half_length;
     SCOPED_TRACE("capsule r=" + std::to_string(r) + " a=" + std::to_string(a));
     const Shape capsule = Shape::capsule(r, a);
     const auto rho_squared = [&](Real z) {
