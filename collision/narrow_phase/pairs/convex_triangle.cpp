@@ -343,10 +343,18 @@ int capsule_triangle(const Shape& capsule, const TriangleView& tri, Real margin,
                   i == 0 ? feature::kCapsuleEnd0 : feature::kCapsuleEnd1, TriangleRegion::face,
                   margin);
   }
+  // A core that pierces the face, with the face the least separated axis: the segment and the
+  // triangle are polytopes, the face's overlap (the lower end's depth) is the minimum
+  // translation, and the lower end must be reported even where it lies beyond the face's edges,
+  // or the contact is shallower than the overlap and pushing out by it leaves the capsule
+  // through the triangle (a capsule 0.3 m deep got 0.27).
+  const int lower = height[0] < height[1] ? 0 : 1;
+  if (pierces && !projects_inside(end[lower], tri))
+    contact.add(end[lower] - n * r, r - height[lower], feature::kCapsuleSide, TriangleRegion::face,
+                margin);
   if (contact.count == 0) {
-    // The deepest point of the segment over the face: the lower end's side of the crossing.
-    const Vec3 lowest = pierces ? (height[0] < height[1] ? end[0] : end[1]) : on_segment;
-    contact.add(lowest - n * r, r - n.dot(lowest - tri.corner[0]), feature::kCapsuleSide,
+    // The deepest point of the segment over the face.
+    contact.add(on_segment - n * r, r - n.dot(on_segment - tri.corner[0]), feature::kCapsuleSide,
                 TriangleRegion::face, margin);
   }
   return contact.count;
