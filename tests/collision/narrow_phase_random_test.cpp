@@ -25,8 +25,10 @@ namespace {
 
 struct Tolerances {
   Real absolute = 1e-9;  // times the pair's size
-  // Box-box keeps a face axis unless an edge axis is clearly (2% + 1e-5 of the size) better,
-  // so its depth may exceed the exact minimum translation by that much.
+  // Box-box keeps a face axis unless an edge axis is clearly (2% of the face's own overlap plus
+  // 1e-5 of the size) better, so the face's overlap may exceed the exact minimum translation,
+  // which the reported depth is at least, by that much: by up to (2% of the depth + 1e-5 of the
+  // size) / (1 - 2%).
   Real relative_to_depth = 0;
 };
 
@@ -83,8 +85,9 @@ void check_pose(const Shape& a, const Transform& pose_a, const Shape& b, const T
   Real reported_depth = -truth;
   for (int i = 0; i < count; ++i)
     reported_depth = std::max(reported_depth, m.points[i].depth);
-  const Real tolerance = tolerances.absolute * scale +
-                         tolerances.relative_to_depth * std::max(reported_depth, Real(0));
+  const Real tolerance = (tolerances.absolute * scale +
+                          tolerances.relative_to_depth * std::max(reported_depth, Real(0))) /
+                         (1 - tolerances.relative_to_depth);
   ++stats.poses;
   ASSERT_EQ(count, m.count);
   if (count == 0) {
