@@ -15,20 +15,26 @@ namespace tumble::testing {
 
 inline Vec3 random_vector(std::mt19937_64& rng, Real lo, Real hi) {
   std::uniform_real_distribution<Real> u(lo, hi);
-  return Vec3(u(rng), u(rng), u(rng));
+  const Real x = u(rng), y = u(rng), z = u(rng);
+  return Vec3(x, y, z);
 }
 
 inline Vec3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<Real> n(0, 1);
-  Vec3 v(n(rng), n(rng), n(rng));
+  const auto draw = [&] {
+    const Real x = n(rng), y = n(rng), z = n(rng);
+    return Vec3(x, y, z);
+  };
+  Vec3 v = draw();
   while (v.norm() < 1e-6)
-    v = Vec3(n(rng), n(rng), n(rng));
+    v = draw();
   return v.normalized();
 }
 
 inline Quat random_rotation(std::mt19937_64& rng) {
   std::normal_distribution<Real> n(0, 1);
-  Quat q(n(rng), n(rng), n(rng), n(rng));
+  const Real w = n(rng), x = n(rng), y = n(rng), z = n(rng);
+  Quat q(w, x, y, z);
   return q.normalized();
 }
 

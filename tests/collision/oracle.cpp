@@ -18,7 +18,10 @@ Real uniform(Rng& rng, Real low, Real high) {
 Vec3 random_unit_vector(Rng& rng) {
   std::normal_distribution<Real> normal(0, 1);
   for (;;) {
-    const Vec3 v(normal(rng), normal(rng), normal(rng));
+    // One draw per statement: a call's arguments are evaluated in an order the compiler picks
+    // (GCC right to left, clang left to right), and the cases must not depend on the compiler.
+    const Real x = normal(rng), y = normal(rng), z = normal(rng);
+    const Vec3 v(x, y, z);
     if (v.norm() > Real(1e-6))
       return v.normalized();
   }
@@ -28,7 +31,8 @@ Quat random_rotation(Rng& rng) {
   // A normalised 4D Gaussian is uniform on the unit quaternions (Shoemake, Graphics Gems III).
   std::normal_distribution<Real> normal(0, 1);
   for (;;) {
-    Quat q(normal(rng), normal(rng), normal(rng), normal(rng));
+    const Real w = normal(rng), x = normal(rng), y = normal(rng), z = normal(rng);
+    Quat q(w, x, y, z);
     if (q.norm() > Real(1e-6))
       return q.normalized();
   }
@@ -46,17 +50,21 @@ Shape random_shape(Rng& rng, ShapeType type) {
     case ShapeType::box:
       return Shape::box(
           {uniform(rng, 0.15, 1.2), uniform(rng, 0.15, 1.2), uniform(rng, 0.15, 1.2)});
-    case ShapeType::capsule:
-      return Shape::capsule(uniform(rng, 0.1, 0.8), uniform(rng, 0.05, 1.2));
+    case ShapeType::capsule: {
+      const Real radius = uniform(rng, 0.1, 0.8);
+      return Shape::capsule(radius, uniform(rng, 0.05, 1.2));
+    }
     case ShapeType::plane:
       return Shape::plane();
-    case ShapeType::cylinder:
-      return Shape::cylinder(uniform(rng, 0.15, 1.0), uniform(rng, 0.1, 1.0));
+    case ShapeType::cylinder: {
+      const Real radius = uniform(rng, 0.15, 1.0);
+      return Shape::cylinder(radius, uniform(rng, 0.1, 1.0));
+    }
     case ShapeType::hull: {
       // 4 to 43 points, half of the time on a sphere (many faces), otherwise in a box (a few
       // big faces with merged coplanar facets are rarer but happen with 8 corners below).
       const int count = 4 + int(uniform(rng, 0, 40));
-      const Vec3 size(uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0));
+      const Vec3 size{uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0), uniform(rng, 0.2, 1.0)};
       std::vector<Vec3> points;
       const int style = int(uniform(rng, 0, 3));
       for (int i = 0; i < count; ++i) {
