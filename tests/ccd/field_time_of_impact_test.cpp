@@ -173,15 +173,15 @@ ToiResult reference_time_of_impact(const Shape& a, const RigidMotion& ma, const 
     Manifold m;
     DistanceBound out;
     out.separating_normal = false;
-    if (collide(a, pa, b, pb, reach, m) == 0) {
-      out.distance = reach;
-      return out;
+    out.distance = reach;
+    if (collide(a, pa, b, pb, reach, m) > 0) {
+      const auto by_depth = [](const ContactPoint& x, const ContactPoint& y) {
+        return x.depth < y.depth;
+      };
+      out.distance =
+          -std::max_element(m.points.begin(), m.points.begin() + m.count, by_depth)->depth;
+      out.normal = m.normal;
     }
-    Real deepest = m.points[0].depth;
-    for (int i = 1; i < m.count; ++i)
-      deepest = std::max(deepest, m.points[i].depth);
-    out.distance = -deepest;
-    out.normal = m.normal;
     return out;
   };
   return conservative_advancement(ma, radius_a, mb, radius_b, distance, settings);
