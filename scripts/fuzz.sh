@@ -44,12 +44,20 @@ fi
 # libraries only: no apps, renderer or oracles.
 # Eigen is left out of the coverage instrumentation (tests/fuzz/coverage_ignorelist.txt): its
 # small fixed-size loops, traced comparison by comparison, took over half of the time.
+# FUZZ_CONFIGURED=1 takes TUMBLE_FUZZ_BUILD as it is configured: scripts/test.sh configures one
+# clang build for the sanitized test suite and the fuzzers (TUMBLE_SANITIZE and TUMBLE_FUZZ), runs
+# the tests, then fuzzes from it.
 opt=${FUZZ_OPT:--O2}
 ignore="-fsanitize-coverage-ignorelist=$PWD/tests/fuzz/coverage_ignorelist.txt"
-cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$opt -g1 $ignore" -DTUMBLE_FUZZ=ON -DTUMBLE_BUILD_TESTS=OFF \
-  -DTUMBLE_WITH_RENDER=OFF -DTUMBLE_WITH_BULLET=OFF -DTUMBLE_WITH_MUJOCO=OFF -DTUMBLE_WITH_MPI=OFF \
-  -DTUMBLE_UNITY_LIBRARIES=ON >/dev/null
+if [ "${FUZZ_CONFIGURED:-0}" != 1 ]; then
+  cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$opt -g1 $ignore" -DTUMBLE_FUZZ=ON -DTUMBLE_BUILD_TESTS=OFF \
+    -DTUMBLE_WITH_RENDER=OFF -DTUMBLE_WITH_BULLET=OFF -DTUMBLE_WITH_MUJOCO=OFF -DTUMBLE_WITH_MPI=OFF \
+    -DTUMBLE_UNITY_LIBRARIES=ON >/dev/null
+elif ! grep -q '^TUMBLE_FUZZ:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+  echo "fuzz: FUZZ_CONFIGURED=1, but $build is not configured with TUMBLE_FUZZ=ON" >&2
+  exit 2
+fi
 cmake --build "$build" --target tumble_fuzzers -j "$(nproc)"
 
 work="$root/$build"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Installs everything, builds tumble twice (optimised, and with AddressSanitizer +
-# UndefinedBehaviorSanitizer) and runs the whole test suite under each, then checks the golden
-# state hashes from a clang build (scripts/clang_golden_hashes.sh) and builds the fuzz targets
-# with clang and runs each briefly (scripts/fuzz.sh). `.ci/run` calls this.
+# Installs everything, builds tumble twice (optimised with GCC, and with clang's AddressSanitizer +
+# UndefinedBehaviorSanitizer and the fuzzers' coverage) and runs the whole test suite under each,
+# then checks the golden state hashes from a clang build (scripts/clang_golden_hashes.sh), runs the
+# threaded tests under ThreadSanitizer and runs each fuzz target briefly from the sanitizer build
+# (scripts/fuzz.sh). `.ci/run` calls this.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -41,24 +42,32 @@ finish_part "release build"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 finish_part "release tests (C++ and Python)"
 
-echo "== sanitizer build (address, undefined) and tests =="
-# -O1 with line tables only: the instrumented build is the longest part of the run, and at -O2
-# with full debug information it took twice as long to compile (104 s against 54 s for the
-# largest test file) for the same checks; stack traces still name file and line.
+echo "== sanitizer build (clang: address, undefined, and the fuzzers' coverage) and tests =="
+# One clang build serves the sanitized test suite and the fuzzers below (TUMBLE_SANITIZE and
+# TUMBLE_FUZZ): the fuzzers' libraries are the tests', so the libraries compile once for both,
+# about 300 s less than a GCC build for the tests and a clang build for the fuzzers
+# (docs/reliability.md, "CI time"); TUMBLE_FUZZ's sanitizers include TUMBLE_SANITIZE's, which
+# clang takes twice without harm. -O1 with line tables only: stack traces still name file and
+# line. Eigen is left out of the coverage instrumentation (tests/fuzz/coverage_ignorelist.txt).
 # Without OpenVDB: the whole suite then runs as on a machine that lacks it (its grids from
 # tumble's own dense builder, its level sets refused with the reason, its own tests skipped),
-# while the optimised build above runs it with OpenVDB, and the fuzzers load OpenVDB's level sets
-# under the sanitizers.
-cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DTUMBLE_SANITIZE=ON -DTUMBLE_WITH_OPENVDB=OFF \
-  -DTUMBLE_BUILD_BENCHMARKS=OFF -DTUMBLE_UNITY_TESTS=ON -DTUMBLE_UNITY_LIBRARIES=ON "${python[@]}"
-cmake --build build/sanitize -j "$jobs"
-finish_part "sanitizer build"
+# while the optimised build above runs it with OpenVDB; the long fuzz runs (scripts/fuzz.sh
+# alone) load OpenVDB's level sets.
+clang=$(command -v clang++-14 || command -v clang++)
+cmake -S . -B build/check -G Ninja -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -fsanitize-coverage-ignorelist=$PWD/tests/fuzz/coverage_ignorelist.txt" \
+  -DTUMBLE_SANITIZE=ON -DTUMBLE_FUZZ=ON -DTUMBLE_WITH_OPENVDB=OFF -DTUMBLE_BUILD_BENCHMARKS=OFF \
+  -DTUMBLE_UNITY_TESTS=ON -DTUMBLE_UNITY_LIBRARIES=ON "${python[@]}"
+cmake --build build/check -j "$jobs"
+finish_part "sanitizer build (with the fuzzers)"
 # The broad-phase property tests run a quarter of their random steps here (see
 # tests/broad_phase/broad_phase_property.hpp): every path is still exercised under the sanitizers.
+# OSMesa keeps allocations for the life of the process, which LeakSanitizer reports at exit under
+# clang's runtime: tests/sanitizers/lsan_suppressions.txt names that library alone.
 TUMBLE_PROPERTY_SCALE=0.25 \
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/sanitize --output-on-failure -j "$jobs"
+LSAN_OPTIONS=suppressions=$PWD/tests/sanitizers/lsan_suppressions.txt:print_suppressions=0 \
+  ctest --test-dir build/check --output-on-failure -j "$jobs"
 finish_part "sanitizer tests"
 
 # The golden state hashes from clang (the core libraries and that test alone, at -O3; -O2 agrees
@@ -72,10 +81,9 @@ finish_part "ThreadSanitizer build and threaded tests"
 
 # Every libFuzzer target of tests/fuzz, briefly, from their seeds (the repository's scenes, meshes
 # and queries, and the corpora of longer runs in tests/fuzz/seeds); a finding fails the run.
-# docs/reliability.md has the longer runs. Built at -O1: the build was two thirds of this part at
-# -O2 (267 of 389 s), and -O1 compiles in 29% less time. 10 s a target: libFuzzer replays every
-# seed before it looks at the clock, so the slowest targets (the scene loader, the narrow phase)
-# still run all of theirs.
+# docs/reliability.md has the longer runs. From the sanitizer build above, which built them. 10 s
+# a target: libFuzzer replays every seed before it looks at the clock, so the slowest targets
+# (the scene loader, the narrow phase) still run all of theirs.
 echo "== fuzzing (clang, libFuzzer with address and undefined sanitizers) =="
-FUZZ_OPT=-O1 bash scripts/fuzz.sh 10
-finish_part "fuzz build and run"
+FUZZ_CONFIGURED=1 TUMBLE_FUZZ_BUILD=build/check bash scripts/fuzz.sh 10
+finish_part "fuzz run"

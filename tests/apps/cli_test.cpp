@@ -558,8 +558,16 @@ TEST(Cli, AFullDiskLeavesThePreviousOutputs) {
 // not a scene error or an internal one. The same scene with coarser cells runs under the same
 // limit, so the limit is what fails, not the file. AddressSanitizer reserves terabytes of
 // address space for its shadow, so an address-space limit cannot be set under it.
-TEST(Cli, RunningOutOfMemoryIsReportedAsSuch) {
+// GCC says AddressSanitizer by a macro, clang by __has_feature.
 #if defined(__SANITIZE_ADDRESS__)
+#define TUMBLE_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TUMBLE_TEST_UNDER_ASAN 1
+#endif
+#endif
+TEST(Cli, RunningOutOfMemoryIsReportedAsSuch) {
+#if defined(TUMBLE_TEST_UNDER_ASAN)
   GTEST_SKIP() << "an address-space limit does not work under AddressSanitizer";
 #else
   const fs::path dir = scratch_dir("memory");
