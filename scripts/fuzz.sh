@@ -40,8 +40,9 @@ fi
 # -O2 and line tables: stack traces that name file and line, and a third less time per input than
 # -O1 (an SDF body's mass integration, the slowest thing a scene loads, takes 4 to 6 s under the
 # sanitizers and the fuzzer's coverage, 0.1 s in the optimised build). FUZZ_OPT=-O1 compiles
-# faster, for short runs (CI: scripts/test.sh), where the build is most of the time. The
-# libraries only: no apps, renderer or oracles.
+# faster, for short runs, where the build is most of the time (CI fuzzes from scripts/test.sh's
+# sanitizer build instead: FUZZ_CONFIGURED below). The libraries only: no apps, renderer or
+# oracles.
 # Eigen is left out of the coverage instrumentation (tests/fuzz/coverage_ignorelist.txt): its
 # small fixed-size loops, traced comparison by comparison, took over half of the time.
 # FUZZ_CONFIGURED=1 takes TUMBLE_FUZZ_BUILD as it is configured: scripts/test.sh configures one
