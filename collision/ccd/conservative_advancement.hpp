@@ -48,6 +48,12 @@ struct ToiSettings {
   int max_iterations = 64;
 };
 
+// Where the advancement stops: the target plus the tolerance (1e-6 m when it is not positive).
+// The distance callback may use it to know below what a loose bound must not be given.
+inline Real stop_distance(const ToiSettings& settings) {
+  return settings.target_distance + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
+}
+
 struct ToiResult {
   ToiStatus status = ToiStatus::separated;
   Real time_of_impact = 1;      // in [0, 1]; 1 when separated
@@ -74,7 +80,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
   const Real full_speed =
       both_linear ? relative_velocity.norm() : a.centre_speed() + b.centre_speed();
   const Real target = settings.target_distance;
-  const Real stop = target + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
+  const Real stop = stop_distance(settings);
   Real s = 0;
   for (int it = 0; it < settings.max_iterations; ++it) {
     out.iterations = it + 1;

@@ -34,9 +34,7 @@ ToiResult time_of_impact(const Shape& a, const RigidMotion& motion_a, const Shap
     reach += motion_b.angular_velocity().norm() * radius_b;
   const Real max_distance =
       reach + std::max(settings.target_distance, Real(0)) + settings.tolerance + Real(1e-9);
-  // Where the advancement stops (conservative_advancement's own rule).
-  const Real stop =
-      settings.target_distance + (settings.tolerance > 0 ? settings.tolerance : Real(1e-6));
+  const Real stop = stop_distance(settings);
   auto distance = [&](const Transform& pa, const Transform& pb) {
     return shape_distance_bound(a, pa, b, pb, max_distance, stop);
   };
