@@ -238,8 +238,24 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
   };
   field_margin(b, pose_b, a, pose_a);
   field_margin(a, pose_a, b, pose_b);
-  Manifold m;
   DistanceBound out;
+  // Against a field, the advances before the last step by the deepest candidate's separation
+  // alone (field_least_separation: the same candidates, a few of them refined instead of one per
+  // region, no manifold). Touching fields, whose advancement creeps by a fiftieth of the thinner
+  // body per advance, spent most of a short fuzzed scene's time in the whole narrow phase. Where
+  // the advancement would stop, the narrow phase has the last word (and gives the normal).
+  const auto plain = [](const Shape& s) {
+    return s.type != ShapeType::mesh && s.type != ShapeType::compound;
+  };
+  if ((a.type == ShapeType::sdf || b.type == ShapeType::sdf) && plain(a) && plain(b)) {
+    const Real least = field_least_separation(a, pose_a, b, pose_b, margin);
+    if (least > stop_distance) {
+      out.distance = least;
+      out.separating_normal = false;
+      return out;
+    }
+  }
+  Manifold m;
   if (collide(a, pose_a, b, pose_b, margin, m) == 0) {
     out.distance = margin;
     out.separating_normal = false;

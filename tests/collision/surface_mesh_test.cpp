@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "collision/shapes/compound_shape.hpp"
+#include "collision/shapes/shape.hpp"
 #include "collision/shapes/surface_mesh.hpp"
 #include "collision/shapes/triangle_mesh.hpp"
 #include "tests/property_scale.hpp"

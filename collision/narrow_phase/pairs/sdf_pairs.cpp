@@ -256,15 +256,20 @@ struct RefineCounts {
   }
 };
 
-template <class Partner, class Emit>
-void surface_points_against(const Surface& surface, const Aabb& box, const Partner& partner,
-                            Real margin, RefineCounts& counts, Emit&& emit) {
-  struct Raw {
-    std::int64_t region = -1;
-    int index = 0;
-    Real distance = 0;
-  };
-  std::array<Raw, kRegions> deepest;
+// The raw pass of kind 2: for each region (cubes of a quarter of B's bounding radius, hashed into
+// kRegions slots), the surface point inside `box` (B's frame) whose partner distance is least
+// and below the margin.
+struct RawCandidate {
+  std::int64_t region = -1;
+  int index = 0;
+  Real distance = 0;
+};
+using RegionCandidates = std::array<RawCandidate, kRegions>;
+
+template <class Partner>
+void deepest_per_region(const Surface& surface, const Aabb& box, const Partner& partner,
+                        Real margin, RegionCandidates& deepest) {
+  deepest.fill(RawCandidate{});
   const SdfShape& field = *surface.field;
   const Aabb local = box.placed(surface.pose.inverse());  // in the field's frame, for the buckets
   const Real region_size = field.bounding_radius() / 4;
@@ -299,11 +304,19 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
         std::int64_t(cell.x()) + 64 * (std::int64_t(cell.y()) + 64 * std::int64_t(cell.z()));
     // Fibonacci hashing: the top bits of the product mix all three coordinates.
     const std::uint64_t mixed = std::uint64_t(region) * 0x9E3779B97F4A7C15ULL;
-    Raw& slot = deepest[std::size_t(mixed >> 58)];
+    RawCandidate& slot = deepest[std::size_t(mixed >> 58)];
     if (slot.region < 0 || d < slot.distance)
       slot = {region, i, d};
   });
-  for (const Raw& raw : deepest) {
+}
+
+template <class Partner, class Emit>
+void surface_points_against(const Surface& surface, const Aabb& box, const Partner& partner,
+                            Real margin, RefineCounts& counts, Emit&& emit) {
+  RegionCandidates deepest;
+  deepest_per_region(surface, box, partner, margin, deepest);
+  const SdfShape& field = *surface.field;
+  for (const RawCandidate& raw : deepest) {
     if (raw.region < 0)
       continue;
     const Vec3 start = surface.pose.apply(field.surface_point(raw.index));
@@ -325,6 +338,43 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
     emit(x, normalized_or(Vec3(-other.gradient), own.gradient), other,
          std::uint16_t(raw.index & 0xffff));
   }
+}
+
+// The least partner distance surface_points_against would report (below the margin; the margin
+// when none is), refining only a few of the regions instead of every one: in order of their raw
+// points, at most kLeastRefined, and only while a raw point lies within kLeastReach cells of the
+// least refined so far (the deepest point of the surface lies within about a cell and a half of
+// one of its points, which then lies at most that much higher: the partner's distance is
+// 1-Lipschitz). A region left out may refine deeper still (a walk gains what the surface's
+// curvature allows over a few cells); conservative advancement asks the whole narrow phase where
+// it stops (collision/ccd/shape_distance.cpp). tests/collision/field_least_separation_test.cpp
+// measures both against the narrow phase.
+constexpr int kLeastRefined = 4;
+constexpr Real kLeastReach = 2;
+
+template <class Partner>
+Real least_surface_distance(const Surface& surface, const Aabb& box, const Partner& partner,
+                            Real margin) {
+  RegionCandidates deepest;
+  deepest_per_region(surface, box, partner, margin, deepest);
+  // The deepest raw points first; ties by point index, so the order does not depend on the hash.
+  const auto end = std::partition(deepest.begin(), deepest.end(),
+                                  [](const RawCandidate& r) { return r.region >= 0; });
+  std::sort(deepest.begin(), end, [](const RawCandidate& p, const RawCandidate& q) {
+    return p.distance < q.distance || (p.distance == q.distance && p.index < q.index);
+  });
+  Real least = margin;
+  const SdfShape& field = *surface.field;
+  const Real reach = kLeastReach * field.cell_size();
+  const auto last =
+      deepest.begin() + std::min<std::ptrdiff_t>(kLeastRefined, end - deepest.begin());
+  for (auto raw = deepest.begin(); raw != last && raw->distance < least + reach; ++raw) {
+    const Vec3 start = surface.pose.apply(field.surface_point(raw->index));
+    bool capped = false;
+    const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size(), capped);
+    least = std::min(least, partner(x, false).distance);
+  }
+  return least;
 }
 
 // The field's second derivatives at x, by central differences of its gradient `step` apart,
@@ -424,6 +474,41 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
     out.separation_curvature = packed_symmetric(h);
   }
   return count;
+}
+
+// convex_against_sdf's least separation (minus its deepest point's depth; the margin when it has
+// none), from the same candidates, with kind 2 refined as least_surface_distance says.
+Real least_convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field,
+                              Real time, Real margin) {
+  Real least = margin;
+  const Aabb b_box = field.local_bounds().inflated(margin);
+  const bool round = a.type == ShapeType::sphere || a.type == ShapeType::capsule;
+  const bool direct = round && a.radius + margin < field.reach();
+  if (direct) {
+    const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
+    const int n = a.type == ShapeType::capsule
+                      ? std::clamp(int(std::ceil(2 * a.half_length / field.cell_size())), 1, 16)
+                      : 0;
+    for (int i = 0; i <= n; ++i) {
+      const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
+      least = std::min(least, field.distance(pose_a.translation + along * axis, time) - a.radius);
+    }
+    return least;
+  }
+  if (!round && a.type != ShapeType::plane) {
+    for_each_surface_sample(a, field.cell_size(), [&](const Vec3& local, std::uint16_t) {
+      const Vec3 p = pose_a.apply(local);
+      if (b_box.contains(p))
+        least = std::min(least, field.distance(p, time));
+    });
+  }
+  const Aabb a_box =
+      a.type == ShapeType::plane ? field.local_bounds() : world_aabb(a, pose_a).inflated(margin);
+  const Surface surface{&field, Transform{}, time};
+  const auto partner = [&](const Vec3& x, bool gradient) {
+    return partner_sample(a, pose_a, x, gradient);
+  };
+  return std::min(least, least_surface_distance(surface, a_box, partner, margin));
 }
 
 // A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
@@ -553,3 +638,29 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 }
 
 }  // namespace tumble::detail
+
+namespace tumble {
+
+Real field_least_separation(const Shape& a, const Transform& pose_a, const Shape& b,
+                            const Transform& pose_b, Real margin) {
+  using namespace detail;
+  if (a.type == ShapeType::sdf && b.type != ShapeType::sdf)
+    return field_least_separation(b, pose_b, a, pose_a, margin);
+  const Transform a_in_b = pose_b.relative(pose_a);
+  if (a.type != ShapeType::sdf)
+    return least_convex_against_sdf(a, a_in_b, *b.sdf, b.field_time, margin);
+  // Two fields: sdf_sdf's candidates, both ways.
+  const Surface surface_a{a.sdf.get(), a_in_b, a.field_time};
+  const Surface surface_b{b.sdf.get(), Transform{}, b.field_time};
+  const Aabb a_box = a.sdf->local_bounds().placed(a_in_b);
+  const Aabb b_box = b.sdf->local_bounds();
+  const Aabb overlap =
+      Aabb{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)}.inflated(margin);
+  const Real b_in_a = least_surface_distance(
+      surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin);
+  const Real a_in_field_b = least_surface_distance(
+      surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin);
+  return std::min(b_in_a, a_in_field_b);
+}
+
+}  // namespace tumble
