@@ -19,14 +19,6 @@ namespace tumble {
 int collide(const Shape& a, const Transform& pose_a, const Shape& b, const Transform& pose_b,
             Real margin, Manifold& out);
 
-// For a pair with a signed distance field (either shape or both; the other neither a mesh nor a
-// compound): the separation of the deepest point collide() would report (minus its depth), or
-// `margin` when it reports none, without building the manifold: its candidates are refined only
-// where they lie deepest (collision/narrow_phase/pairs/sdf_pairs.cpp). Conservative advancement
-// steps by it (collision/ccd/shape_distance.cpp).
-Real field_least_separation(const Shape& a, const Transform& pose_a, const Shape& b,
-                            const Transform& pose_b, Real margin);
-
 // Whether `a` at `pose_a` and `b` at `pose_b` are twins: shapes of equal content (dimensions,
 // vertices, parts and their poses, a field's surface points; not the same object necessarily) at
 // equal poses, or spheres of one radius at one centre. Nothing tells A from B then.

@@ -21,6 +21,7 @@
 #include <limits>
 
 #include "collision/narrow_phase/pairs/contact_collector.hpp"
+#include "collision/narrow_phase/pairs/field_separation.hpp"
 #include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/sdf/sdf_primitives.hpp"
 #include "collision/shapes/convex_hull.hpp"
@@ -352,9 +353,11 @@ void surface_points_against(const Surface& surface, const Aabb& box, const Partn
 constexpr int kLeastRefined = 4;
 constexpr Real kLeastReach = 2;
 
+// The least separation and its candidate's normal (from the partner's side to the surface's,
+// the way surface_points_against pushes the partner off), in the surface's frame (B's).
 template <class Partner>
-Real least_surface_distance(const Surface& surface, const Aabb& box, const Partner& partner,
-                            Real margin) {
+FieldSeparation least_surface_distance(const Surface& surface, const Aabb& box,
+                                       const Partner& partner, Real margin) {
   RegionCandidates deepest;
   deepest_per_region(surface, box, partner, margin, deepest);
   // The deepest raw points first; ties by point index, so the order does not depend on the hash.
@@ -363,16 +366,18 @@ Real least_surface_distance(const Surface& surface, const Aabb& box, const Partn
   std::sort(deepest.begin(), end, [](const RawCandidate& p, const RawCandidate& q) {
     return p.distance < q.distance || (p.distance == q.distance && p.index < q.index);
   });
-  Real least = margin;
+  FieldSeparation least{margin, Vec3::UnitZ()};
   const SdfShape& field = *surface.field;
   const Real reach = kLeastReach * field.cell_size();
   const auto last =
       deepest.begin() + std::min<std::ptrdiff_t>(kLeastRefined, end - deepest.begin());
-  for (auto raw = deepest.begin(); raw != last && raw->distance < least + reach; ++raw) {
+  for (auto raw = deepest.begin(); raw != last && raw->distance < least.distance + reach; ++raw) {
     const Vec3 start = surface.pose.apply(field.surface_point(raw->index));
     bool capped = false;
     const Vec3 x = refine_on_surface(surface, partner, start, field.cell_size(), capped);
-    least = std::min(least, partner(x, false).distance);
+    const sdf::Sample other = partner(x, true);
+    if (other.distance < least.distance)
+      least = {other.distance, normalized_or(Vec3(-other.gradient), surface.sample(x).gradient)};
   }
   return least;
 }
@@ -477,10 +482,17 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
 }
 
 // convex_against_sdf's least separation (minus its deepest point's depth; the margin when it has
-// none), from the same candidates, with kind 2 refined as least_surface_distance says.
-Real least_convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field,
-                              Real time, Real margin) {
-  Real least = margin;
+// none) and that candidate's normal, from the same candidates, with kind 2 refined as
+// least_surface_distance says; in B's frame.
+FieldSeparation least_convex_against_sdf(const Shape& a, const Transform& pose_a,
+                                         const SdfShape& field, Real time, Real margin) {
+  FieldSeparation least{margin, Vec3::UnitZ()};
+  // A's point x in B's field, `radius` out from it (A is pushed along B's gradient).
+  const auto consider = [&](const Vec3& x, Real radius) {
+    const sdf::Sample s = field.sample(x, time);
+    if (s.distance - radius < least.distance)
+      least = {s.distance - radius, normalized_or(s.gradient, Vec3::UnitZ())};
+  };
   const Aabb b_box = field.local_bounds().inflated(margin);
   const bool round = a.type == ShapeType::sphere || a.type == ShapeType::capsule;
   const bool direct = round && a.radius + margin < field.reach();
@@ -491,7 +503,7 @@ Real least_convex_against_sdf(const Shape& a, const Transform& pose_a, const Sdf
                       : 0;
     for (int i = 0; i <= n; ++i) {
       const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
-      least = std::min(least, field.distance(pose_a.translation + along * axis, time) - a.radius);
+      consider(pose_a.translation + along * axis, a.radius);
     }
     return least;
   }
@@ -499,7 +511,7 @@ Real least_convex_against_sdf(const Shape& a, const Transform& pose_a, const Sdf
     for_each_surface_sample(a, field.cell_size(), [&](const Vec3& local, std::uint16_t) {
       const Vec3 p = pose_a.apply(local);
       if (b_box.contains(p))
-        least = std::min(least, field.distance(p, time));
+        consider(p, 0);
     });
   }
   const Aabb a_box =
@@ -508,7 +520,8 @@ Real least_convex_against_sdf(const Shape& a, const Transform& pose_a, const Sdf
   const auto partner = [&](const Vec3& x, bool gradient) {
     return partner_sample(a, pose_a, x, gradient);
   };
-  return std::min(least, least_surface_distance(surface, a_box, partner, margin));
+  const FieldSeparation of_surface = least_surface_distance(surface, a_box, partner, margin);
+  return of_surface.distance < least.distance ? of_surface : least;
 }
 
 // A static mesh against the SDF B, in B's frame: each triangle near B sampled in B's field, and
@@ -641,26 +654,37 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
 
 namespace tumble {
 
-Real field_least_separation(const Shape& a, const Transform& pose_a, const Shape& b,
-                            const Transform& pose_b, Real margin) {
+FieldSeparation field_least_separation(const Shape& a, const Transform& pose_a, const Shape& b,
+                                       const Transform& pose_b, Real margin) {
   using namespace detail;
-  if (a.type == ShapeType::sdf && b.type != ShapeType::sdf)
-    return field_least_separation(b, pose_b, a, pose_a, margin);
+  if (a.type == ShapeType::sdf && b.type != ShapeType::sdf) {
+    FieldSeparation flipped = field_least_separation(b, pose_b, a, pose_a, margin);
+    flipped.normal = -flipped.normal;
+    return flipped;
+  }
   const Transform a_in_b = pose_b.relative(pose_a);
-  if (a.type != ShapeType::sdf)
-    return least_convex_against_sdf(a, a_in_b, *b.sdf, b.field_time, margin);
-  // Two fields: sdf_sdf's candidates, both ways.
-  const Surface surface_a{a.sdf.get(), a_in_b, a.field_time};
-  const Surface surface_b{b.sdf.get(), Transform{}, b.field_time};
-  const Aabb a_box = a.sdf->local_bounds().placed(a_in_b);
-  const Aabb b_box = b.sdf->local_bounds();
-  const Aabb overlap =
-      Aabb{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)}.inflated(margin);
-  const Real b_in_a = least_surface_distance(
-      surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin);
-  const Real a_in_field_b = least_surface_distance(
-      surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin);
-  return std::min(b_in_a, a_in_field_b);
+  FieldSeparation least;
+  if (a.type != ShapeType::sdf) {
+    least = least_convex_against_sdf(a, a_in_b, *b.sdf, b.field_time, margin);
+  } else {
+    // Two fields: sdf_sdf's candidates, both ways.
+    const Surface surface_a{a.sdf.get(), a_in_b, a.field_time};
+    const Surface surface_b{b.sdf.get(), Transform{}, b.field_time};
+    const Aabb a_box = a.sdf->local_bounds().placed(a_in_b);
+    const Aabb b_box = b.sdf->local_bounds();
+    const Aabb overlap =
+        Aabb{a_box.min.cwiseMax(b_box.min), a_box.max.cwiseMin(b_box.max)}.inflated(margin);
+    // B's points in A's field (A pushed along B's normal), then A's points in B's field (A pushed
+    // along B's gradient there, the opposite of A's surface normal that the walk turns to).
+    least = least_surface_distance(
+        surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin);
+    FieldSeparation of_a = least_surface_distance(
+        surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin);
+    of_a.normal = -of_a.normal;
+    if (of_a.distance < least.distance)
+      least = of_a;
+  }
+  least.normal = pose_b.rotate(least.normal);
+  return least;
 }
-
 }  // namespace tumble
