@@ -14,13 +14,13 @@ constexpr Real kMergeCosine = Real(0.5);  // 60 degrees
 }  // namespace
 
 void ContactCollector::add(const Vec3& normal, const Vec3& point_on_a, Real depth,
-                           FeatureId feature) {
+                           FeatureId feature, bool votes) {
   for (int i = 0; i < count_; ++i) {
     const Candidate& c = candidates_[i];
     if (c.point_on_a == point_on_a && c.normal == normal && c.depth == depth)
       return;  // the same contact from a second triangle or part
   }
-  const Candidate candidate{normal, point_on_a, depth, feature};
+  const Candidate candidate{normal, point_on_a, depth, feature, votes};
   if (count_ < kCapacity) {
     candidates_[count_++] = candidate;
     return;
@@ -44,10 +44,13 @@ int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out,
       deepest = i;
   Vec3 normal = candidates_[deepest].normal;
   if (rule == NormalRule::weighted_mean) {
+    bool any_voter = false;
+    for (int i = 0; i < count_ && !any_voter; ++i)
+      any_voter = candidates_[i].votes && candidates_[i].normal.dot(normal) >= kMergeCosine;
     Vec3 sum = Vec3::Zero();
     for (int i = 0; i < count_; ++i) {
       const Candidate& c = candidates_[i];
-      if (c.normal.dot(normal) >= kMergeCosine)
+      if (c.normal.dot(normal) >= kMergeCosine && (c.votes || !any_voter))
         sum += std::max(c.depth + margin, Real(0)) * c.normal;
     }
     if (sum.squaredNorm() > 0)

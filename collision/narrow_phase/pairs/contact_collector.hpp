@@ -26,8 +26,13 @@ class ContactCollector {
   // radius: points closer than this add nothing to how the manifold holds the body up.
   static constexpr Real kMergeFraction = Real(0.01);
 
-  // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint.
-  void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature);
+  // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint. A candidate that
+  // does not `vote` is a point whose own normal is a poorer guess than its neighbours' (a flat
+  // mesh face's point measured in a field's gradient, where the field's points under the face
+  // carry the face's exact normal): the weighted mean leaves it out while any voter is within 60
+  // degrees of the deepest candidate, and it keeps its point and depth.
+  void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature,
+           bool votes = true);
   bool empty() const { return count_ == 0; }
   // Which normal the manifold takes: the deepest candidate's, or the mean of the normals within
   // 60 degrees of it weighted by how deep each point is (depth + margin), for surfaces whose
@@ -45,6 +50,7 @@ class ContactCollector {
     Vec3 point_on_a;
     Real depth;
     FeatureId feature;
+    bool votes;
   };
   std::array<Candidate, kCapacity> candidates_;
   int count_ = 0;

@@ -551,8 +551,12 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
         if (!b_box.contains(p))
           continue;
         const sdf::Sample s = field.sample(p, time);
+        // Its depth, but not its normal: grad phi at a floor point beside a ball's bottom leans
+        // toward the ball's centre, and the field's points under the face (below) carry the
+        // face's own normal.
         if (-s.distance >= -margin)
-          collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface});
+          collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface},
+                        false);
       }
     // B's surface points below the triangle, inside its prism (the triangle's one-sided plane).
     Aabb prism;
