@@ -14,13 +14,13 @@ constexpr Real kMergeCosine = Real(0.5);  // 60 degrees
 }  // namespace
 
 void ContactCollector::add(const Vec3& normal, const Vec3& point_on_a, Real depth,
-                           FeatureId feature, bool votes) {
+                           FeatureId feature, std::uint8_t kind) {
   for (int i = 0; i < count_; ++i) {
     const Candidate& c = candidates_[i];
     if (c.point_on_a == point_on_a && c.normal == normal && c.depth == depth)
       return;  // the same contact from a second triangle or part
   }
-  const Candidate candidate{normal, point_on_a, depth, feature, votes};
+  const Candidate candidate{normal, point_on_a, depth, feature, kind};
   if (count_ < kCapacity) {
     candidates_[count_++] = candidate;
     return;
@@ -43,14 +43,20 @@ int ContactCollector::finish(Real margin, Real merge_distance, Manifold& out,
     if (candidates_[i].depth > candidates_[deepest].depth)
       deepest = i;
   Vec3 normal = candidates_[deepest].normal;
-  if (rule == NormalRule::weighted_mean) {
-    bool any_voter = false;
-    for (int i = 0; i < count_ && !any_voter; ++i)
-      any_voter = candidates_[i].votes && candidates_[i].normal.dot(normal) >= kMergeCosine;
+  if (rule != NormalRule::deepest) {
+    const auto in_cone = [&](const Candidate& c) { return c.normal.dot(normal) >= kMergeCosine; };
+    // Which kind votes: any, the deepest's, or kind 0 while one lies in the cone.
+    int voting_kind = -1;
+    if (rule == NormalRule::weighted_mean_of_deepest_kind)
+      voting_kind = candidates_[deepest].kind;
+    if (rule == NormalRule::weighted_mean_of_kind_zero) {
+      for (int i = 0; i < count_ && voting_kind < 0; ++i)
+        voting_kind = candidates_[i].kind == 0 && in_cone(candidates_[i]) ? 0 : -1;
+    }
     Vec3 sum = Vec3::Zero();
     for (int i = 0; i < count_; ++i) {
       const Candidate& c = candidates_[i];
-      if (c.normal.dot(normal) >= kMergeCosine && (c.votes || !any_voter))
+      if (in_cone(c) && (voting_kind < 0 || c.kind == voting_kind))
         sum += std::max(c.depth + margin, Real(0)) * c.normal;
     }
     if (sum.squaredNorm() > 0)

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include "collision/contact.hpp"
 
@@ -26,19 +27,30 @@ class ContactCollector {
   // radius: points closer than this add nothing to how the manifold holds the body up.
   static constexpr Real kMergeFraction = Real(0.01);
 
-  // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint. A candidate that
-  // does not `vote` is a point whose own normal is a poorer guess than its neighbours' (a flat
-  // mesh face's point measured in a field's gradient, where the field's points under the face
-  // carry the face's exact normal): the weighted mean leaves it out while any voter is within 60
-  // degrees of the deepest candidate, and it keeps its point and depth.
+  // `normal` from B to A, unit; `point_on_a` and the depth as in ContactPoint; `kind` tells where
+  // the candidate came from, for the normal rules below.
   void add(const Vec3& normal, const Vec3& point_on_a, Real depth, FeatureId feature,
-           bool votes = true);
+           std::uint8_t kind = 0);
   bool empty() const { return count_ == 0; }
   // Which normal the manifold takes: the deepest candidate's, or the mean of the normals within
   // 60 degrees of it weighted by how deep each point is (depth + margin), for surfaces whose
   // normal turns from point to point (a field's): a box resting in a round bowl then gets the
   // bowl's axis, not the tilt of whichever corner is a hair deeper, and stays where it is put.
-  enum class NormalRule { deepest, weighted_mean };
+  // The mean may be kept to the candidates whose normal is the better guess, the others keeping
+  // their points and depths:
+  //  - weighted_mean_of_deepest_kind: those of the deepest candidate's kind (a hull's corner
+  //    poking into a curved field is a point of the hull in the field, whose gradient is the
+  //    normal; a field bulging into a hull's face is a point of the field in the hull, whose
+  //    nearest face gives it);
+  //  - weighted_mean_of_kind_zero: those of kind 0 while one lies within the 60 degrees (a flat
+  //    mesh face's points measured in a field lean toward the field's centre; the field's points
+  //    under the face carry the face's normal).
+  enum class NormalRule {
+    deepest,
+    weighted_mean,
+    weighted_mean_of_deepest_kind,
+    weighted_mean_of_kind_zero
+  };
   // Writes the merged manifold (at most 4 points with depth >= -margin, no two closer than
   // `merge_distance`) and returns its count.
   int finish(Real margin, Real merge_distance, Manifold& out,
@@ -50,7 +62,7 @@ class ContactCollector {
     Vec3 point_on_a;
     Real depth;
     FeatureId feature;
-    bool votes;
+    std::uint8_t kind;
   };
   std::array<Candidate, kCapacity> candidates_;
   int count_ = 0;

@@ -442,7 +442,7 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
       const sdf::Sample s = field.sample(p, time);
       if (!(-s.distance >= -margin))
         return;
-      collector.add(normalized_or(s.gradient, Vec3::UnitZ()), p, -s.distance, {id, kSdfSurface});
+      collector.add(normalized_or(s.gradient, Vec3::UnitZ()), p, -s.distance, {id, kSdfSurface}, 1);
     });
   }
   // Kind 2: B's surface points in A's distance (a sphere or capsule evaluated directly needs none:
@@ -463,7 +463,7 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
   }
   const int count =
       collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
-                       ContactCollector::NormalRule::weighted_mean);
+                       ContactCollector::NormalRule::weighted_mean_of_deepest_kind);
   refine_counts.into(out);
   if (direct && count > 0) {
     // The core's separation is phi - radius, so it bends as phi does. Differences a quarter of
@@ -555,8 +555,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
         // toward the ball's centre, and the field's points under the face (below) carry the
         // face's own normal.
         if (-s.distance >= -margin)
-          collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface},
-                        false);
+          collector.add(normalized_or(s.gradient, normal), p, -s.distance, {id, kSdfSurface}, 1);
       }
     // B's surface points below the triangle, inside its prism (the triangle's one-sided plane).
     Aabb prism;
@@ -590,7 +589,7 @@ int mesh_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& fi
   });
   const int count =
       collector.finish(margin, ContactCollector::kMergeFraction * field.bounding_radius(), out,
-                       ContactCollector::NormalRule::weighted_mean);
+                       ContactCollector::NormalRule::weighted_mean_of_kind_zero);
   refine_counts.into(out);
   return count;
 }
