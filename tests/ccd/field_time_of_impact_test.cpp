@@ -26,23 +26,14 @@
 #include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
+#include "tests/collision/csg_test_fields.hpp"
 
 namespace tumble::testing {
 namespace {
 
-// A bowl (a box with a ball carved out of its top), a torus, and a smooth union of a ball and a
-// capsule: non-convex, 1-Lipschitz, about a metre across.
+// The bowl, torus and blob of csg_test_fields, coarse.
 std::vector<Shape> csg_fields() {
-  const SdfNode bowl = SdfNode::combine(
-      SdfKind::difference_of, {SdfNode::box(Vec3(0.6, 0.6, 0.3)),
-                               SdfNode::sphere(0.5).placed({Vec3(0, 0, 0.35), Quat::Identity()})});
-  const SdfNode blob =
-      SdfNode::combine(SdfKind::smooth_union_of,
-                       {SdfNode::sphere(0.4),
-                        SdfNode::capsule(0.15, 0.5).placed({Vec3(0.3, 0, 0), Quat::Identity()})},
-                       8);
-  return {sdf_shape(bowl, nullptr, 16), sdf_shape(SdfNode::torus(0.5, 0.15), nullptr, 16),
-          sdf_shape(blob, nullptr, 16)};
+  return csg_test_fields(16);
 }
 
 // Points on the surface of a box, capsule or sphere in its local frame, about `spacing` apart.

@@ -21,22 +21,14 @@
 #include "collision/shapes/sdf_shape.hpp"
 #include "collision/shapes/shape.hpp"
 #include "tests/ccd/ccd_test_support.hpp"
+#include "tests/collision/csg_test_fields.hpp"
 #include "tests/property_scale.hpp"
 
 namespace tumble::testing {
 namespace {
 
 std::vector<Shape> fields() {
-  const SdfNode bowl = SdfNode::combine(
-      SdfKind::difference_of, {SdfNode::box(Vec3(0.6, 0.6, 0.3)),
-                               SdfNode::sphere(0.5).placed({Vec3(0, 0, 0.35), Quat::Identity()})});
-  const SdfNode blob =
-      SdfNode::combine(SdfKind::smooth_union_of,
-                       {SdfNode::sphere(0.4),
-                        SdfNode::capsule(0.15, 0.5).placed({Vec3(0.3, 0, 0), Quat::Identity()})},
-                       8);
-  return {sdf_shape(bowl, nullptr, 24), sdf_shape(SdfNode::torus(0.5, 0.15), nullptr, 24),
-          sdf_shape(blob, nullptr, 24)};
+  return csg_test_fields(24);
 }
 
 std::vector<Shape> others() {

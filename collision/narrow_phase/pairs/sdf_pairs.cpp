@@ -396,6 +396,20 @@ Mat3 field_hessian(const SdfShape& field, const Vec3& x, Real time, Real step) {
   return (columns + columns.transpose()) * Real(0.5);
 }
 
+// The points of a sphere's centre or a capsule's core at which a field is sampled: the centre, or
+// the core at about a cell apart (2 to 17 points), each with its fraction along the core.
+template <class F>
+void for_each_core_point(const Shape& a, const Transform& pose_a, Real cell, F&& f) {
+  const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
+  const int n = a.type == ShapeType::capsule
+                    ? std::clamp(int(std::ceil(2 * a.half_length / cell)), 1, 16)
+                    : 0;
+  for (int i = 0; i <= n; ++i) {
+    const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
+    f(Vec3(pose_a.translation + along * axis), Real(i) / Real(std::max(n, 1)));
+  }
+}
+
 // A (sphere, box, capsule, plane, cylinder, hull) against the SDF B, in B's frame.
 int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& field, Real time,
                        Real margin, Manifold& out) {
@@ -412,28 +426,21 @@ int convex_against_sdf(const Shape& a, const Transform& pose_a, const SdfShape& 
   Vec3 deepest_core = Vec3::Zero();
   Real deepest = -std::numeric_limits<Real>::infinity();
   if (direct) {
-    const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
-    const int n = a.type == ShapeType::capsule
-                      ? std::clamp(int(std::ceil(2 * a.half_length / field.cell_size())), 1, 16)
-                      : 0;
-    for (int i = 0; i <= n; ++i) {
-      const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
-      const Vec3 c = pose_a.translation + along * axis;
+    for_each_core_point(a, pose_a, field.cell_size(), [&](const Vec3& c, Real fraction) {
       const sdf::Sample s = field.sample(c, time);
       const Real depth = a.radius - s.distance;
       if (!(depth >= -margin))
-        continue;
+        return;
       if (depth > deepest) {
         deepest = depth;
         deepest_core = c;
       }
       const Vec3 normal = normalized_or(s.gradient, Vec3::UnitZ());
-      collector.add(normal, c - normal * a.radius, depth,
-                    {a.type == ShapeType::capsule
-                         ? feature::capsule_feature_at(Real(i) / Real(std::max(n, 1)))
-                         : feature::kSphere,
-                     kSdfSurface});
-    }
+      collector.add(
+          normal, c - normal * a.radius, depth,
+          {a.type == ShapeType::capsule ? feature::capsule_feature_at(fraction) : feature::kSphere,
+           kSdfSurface});
+    });
   } else if (!round && a.type != ShapeType::plane) {
     for_each_surface_sample(a, field.cell_size(), [&](const Vec3& local, std::uint16_t id) {
       const Vec3 p = pose_a.apply(local);
@@ -497,14 +504,8 @@ FieldSeparation least_convex_against_sdf(const Shape& a, const Transform& pose_a
   const bool round = a.type == ShapeType::sphere || a.type == ShapeType::capsule;
   const bool direct = round && a.radius + margin < field.reach();
   if (direct) {
-    const Vec3 axis = a.type == ShapeType::capsule ? pose_a.rotate(Vec3::UnitZ()) : Vec3::Zero();
-    const int n = a.type == ShapeType::capsule
-                      ? std::clamp(int(std::ceil(2 * a.half_length / field.cell_size())), 1, 16)
-                      : 0;
-    for (int i = 0; i <= n; ++i) {
-      const Real along = n == 0 ? Real(0) : -a.half_length + 2 * a.half_length * Real(i) / Real(n);
-      consider(pose_a.translation + along * axis, a.radius);
-    }
+    for_each_core_point(a, pose_a, field.cell_size(),
+                        [&](const Vec3& c, Real) { consider(c, a.radius); });
     return least;
   }
   if (!round && a.type != ShapeType::plane) {
