@@ -14,7 +14,8 @@
 //     Macklin et al., "Local Optimization for Robust Signed Distance Field Collision" (SIGGRAPH
 //     2020), restricted to the surface it starts on.
 // The candidates are merged into one manifold of at most four points by the contact collector
-// (the normal of the deepest, points within 60 degrees of it; contact_collector.hpp).
+// (points within 60 degrees of the deepest's normal, measured along a depth-weighted mean of the
+// normals of the candidates whose kind says theirs is the better guess; contact_collector.hpp).
 #include <algorithm>
 #include <array>
 #include <cmath>
