@@ -64,6 +64,21 @@ struct ToiResult {
   bool hit() const { return status == ToiStatus::hit || status == ToiStatus::overlapping; }
 };
 
+// The fastest the gap between two bodies can close under their motions (radii as below): the
+// centres' speeds and each turn times its radius. conservative_advancement's step never uses
+// more, so a gap larger than this over the motion is never closed.
+inline Real greatest_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
+                                   Real radius_b) {
+  const Real angular_a = a.angular_velocity().norm();
+  const Real angular_b = b.angular_velocity().norm();
+  const Real spin_bound = (angular_a > 0 ? angular_a * radius_a : Real(0)) +
+                          (angular_b > 0 ? angular_b * radius_b : Real(0));
+  const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
+  const Real full_speed = both_linear ? (a.linear_velocity() - b.linear_velocity()).norm()
+                                      : a.centre_speed() + b.centre_speed();
+  return full_speed + spin_bound;
+}
+
 // r_a, r_b: bounding radii about the centres of mass (0 for a body that does not turn).
 template <class DistanceFunction>
 ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const RigidMotion& b,

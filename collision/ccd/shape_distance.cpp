@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "collision/ccd/ray_cast.hpp"
+#include "collision/closest_point_on_triangle.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
 #include "collision/narrow_phase/narrow_phase.hpp"
@@ -50,6 +51,12 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
       corners[std::size_t(k)] = pose_m.apply(mesh.corner(t, k)) - pose_c.translation;
     const Real plane_distance = std::abs(pose_m.rotate(mesh.normal(t)).dot(corners[0]));
     if (plane_distance - radius > out.distance + band)
+      return;
+    // The same bound from the triangle itself, tighter where the centre lies beside the
+    // triangle rather than over it (a terrain's neighbouring triangles share its plane).
+    const Real triangle_distance =
+        closest_point_on_triangle(Vec3::Zero(), corners[0], corners[1], corners[2]).norm();
+    if (triangle_distance - radius > out.distance + band)
       return;
     const ConvexSupport triangle = ConvexSupport::of_points(corners.data(), 3, {});
     const GjkResult g = gjk(shape_support, triangle);
