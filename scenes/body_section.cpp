@@ -232,6 +232,12 @@ BodyDesc Loader::load_body(const Node& node, const YAML::Mark& mark, std::size_t
            "give either mass or density, not both (mass is on line " +
                std::to_string(mass->key_mark.line + 1) + ")");
     }
+    if (mass == nullptr && density == nullptr && b.shape.type == ShapeType::sdf) {
+      // A field's volume is integrated over its cells (docs/sdf.md): a
+      // default density would hide a mass that depends on the field's resolution.
+      fail(shape->key_mark, at("shape"),
+           "a moving body of type sdf needs 'mass' or 'density' (a field's mass is not assumed)");
+    }
     if (mass != nullptr) {
       b.mass = read_real(*mass, at("mass"), kMass);
     } else {

@@ -87,6 +87,7 @@ constexpr Malformed kCases[] = {
     {"compound_empty_parts.yaml", 4, "bodies[0].shape.parts", "expected a list of 1 to 256 parts"},
     {"sdf_without_field.yaml", 4, "bodies[0].shape.sdf", "missing required field 'sdf'"},
     {"sdf_unbounded.yaml", 5, "bodies[0].shape.sdf", "an SDF shape must be a bounded solid"},
+    {"sdf_without_mass.yaml", 5, "bodies[0].shape", "needs 'mass' or 'density'"},
     {"hull_flat.yaml", 4, "bodies[0].shape.points",
      "hull points are coplanar (a flat hull with no volume)"},
     {"hull_bad_point.yaml", 6, "bodies[0].shape.points[2]", "expected a list of 3 numbers"},
