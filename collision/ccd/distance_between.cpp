@@ -292,9 +292,9 @@ ShapeDistance plane_and_convex(const Transform& plane_pose, const Shape& b,
   return d;
 }
 
-// The distance, points, normal and the gradients from them.
+// The distance, points, normal and, when asked, the gradients from them.
 ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
-                      const Transform& pose_b) {
+                      const Transform& pose_b, bool gradients) {
   ShapeDistance d;
   if (a.type == ShapeType::plane && b.type == ShapeType::plane) {
     throw Error("distance_between: two planes (the distance is that of their normals' angle)");
@@ -329,7 +329,8 @@ ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
       d.converged = g.status == GjkStatus::separated;
     }
   }
-  fill_gradients(d, pose_a, pose_b);
+  if (gradients)
+    fill_gradients(d, pose_a, pose_b);
   return d;
 }
 
@@ -351,11 +352,11 @@ void numerical_gradients(ShapeDistance& d, const Shape& a, const Transform& pose
     return out;
   };
   for (int k = 0; k < 6; ++k) {
-    d.gradient_a[k] = (measure(a, moved(pose_a, k, h), b, pose_b).distance -
-                       measure(a, moved(pose_a, k, -h), b, pose_b).distance) /
+    d.gradient_a[k] = (measure(a, moved(pose_a, k, h), b, pose_b, false).distance -
+                       measure(a, moved(pose_a, k, -h), b, pose_b, false).distance) /
                       (2 * h);
-    d.gradient_b[k] = (measure(a, pose_a, b, moved(pose_b, k, h)).distance -
-                       measure(a, pose_a, b, moved(pose_b, k, -h)).distance) /
+    d.gradient_b[k] = (measure(a, pose_a, b, moved(pose_b, k, h), false).distance -
+                       measure(a, pose_a, b, moved(pose_b, k, -h), false).distance) /
                       (2 * h);
   }
 }
@@ -398,12 +399,9 @@ ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Sh
     }
     return d;
   }
-  ShapeDistance d = measure(a, pose_a, b, pose_b);
-  if (!gradients) {
-    d.gradient_a.setZero();
-    d.gradient_b.setZero();
+  ShapeDistance d = measure(a, pose_a, b, pose_b, gradients);
+  if (!gradients)
     return d;
-  }
   if (d.distance < 0 && (a.type == ShapeType::cylinder || b.type == ShapeType::cylinder))
     numerical_gradients(d, a, pose_a, b, pose_b);
   return d;
