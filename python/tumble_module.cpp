@@ -334,8 +334,8 @@ PYBIND11_MODULE(_tumble, m) {
                                    const char* what, const char* pose_what) {
           Vec3 centre = Vec3::Zero();
           // A shape given in code, not a document from elsewhere: its files may lie anywhere.
-          tumble::Shape s = tumble::load_shape_string(yaml_of(shape, what), what, &centre,
-                                                      {.allow_outside_files = true});
+          tumble::Shape s = tumble::load_shape_text(yaml_of(shape, what), what, &centre,
+                                                    {.allow_outside_files = true});
           tumble::Transform t = pose_of(pose, pose_what);
           const Vec3 offset = t.rotation * centre;
           t.translation += offset;

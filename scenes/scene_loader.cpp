@@ -184,8 +184,8 @@ Shape Loader::load_lone_shape(std::string_view text, Vec3* centre_of_mass) {
 
 using scene_yaml::Loader;
 
-Shape load_shape_string(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass,
-                        const SceneLoadOptions& options) {
+Shape load_shape_text(std::string_view yaml, std::string_view source_name, Vec3* centre_of_mass,
+                      const SceneLoadOptions& options) {
   const std::string source(source_name);
   return scene_yaml::with_yaml_errors(
       source, [&] { return Loader(source, options).load_lone_shape(yaml, centre_of_mass); });

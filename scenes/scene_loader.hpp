@@ -37,12 +37,6 @@ struct FieldOverride {
 Scene load_scene_file(const std::filesystem::path& path, std::span<const FieldOverride> overrides,
                       const SceneLoadOptions& options = {});
 
-// One shape written as in a scene (`{type: box, half_extents: [1, 1, 1]}`); `centre_of_mass`
-// receives where the shape's centre of mass lies in the frame it was written in (hulls and
-// compounds are re-centred there; zero otherwise). Throws SceneError.
-Shape load_shape_string(std::string_view yaml, std::string_view source_name,
-                        Vec3* centre_of_mass = nullptr, const SceneLoadOptions& options = {});
-
 // Loads and validates a scene from YAML text; `source_name` names it in messages and becomes
 // Scene::source. Throws SceneError, and nothing else.
 Scene load_scene_string(std::string_view yaml, std::string_view source_name);

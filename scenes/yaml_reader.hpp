@@ -296,7 +296,7 @@ class Loader {
   SdfNode load_sdf(std::string_view text);
   // A neural SDF's weights file (scenes/neural_sdf_file.hpp).
   NeuralSdfDescription load_neural(std::string_view text) const;
-  // A shape on its own (scene_loader.hpp's load_shape_string).
+  // A shape on its own (load_shape_text, include/tumble/load_scene.hpp).
   Shape load_lone_shape(std::string_view text, Vec3* centre_of_mass);
 
  private:

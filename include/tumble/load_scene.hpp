@@ -27,4 +27,15 @@ std::shared_ptr<const Scene> load_scene_text(std::string_view yaml,
                                              std::string_view source_name = "<text>",
                                              const SceneLoadOptions& options = {});
 
+// One shape written as a scene writes a body's `shape` (docs/scene-format.md), for example
+//   {type: sdf, sdf: {difference: [{box: {half_extents: [1, 1, 0.5]}},
+//                                  {sphere: {radius: 0.9}, position: [0, 0, 0.6]}]}}
+// This builds what the Shape factories do not: signed distance fields of every kind (analytic,
+// CSG, grids from OBJ meshes, OpenVDB volumes, networks; docs/sdf.md), meshes and hulls read from
+// files. Files are found as for a scene given as text. `centre_of_mass`, when given, receives
+// where the shape's centre of mass lies in the frame it was written in (hulls, compounds and
+// fields are re-centred there; zero otherwise). Throws SceneError naming the line and field.
+Shape load_shape_text(std::string_view yaml, std::string_view source_name = "<shape>",
+                      Vec3* centre_of_mass = nullptr, const SceneLoadOptions& options = {});
+
 }  // namespace tumble

@@ -26,6 +26,7 @@ cmake --build "$work/cmake-build" -j2 >/dev/null
 "$work/cmake-build/first_program" | tee "$work/cmake.out"
 grep -Eq 'box at z = 1\.0[0-9]* m after 2\.00 s, 1 contact' "$work/cmake.out"
 "$work/cmake-build/kinematic_paddle" | grep -q '3 of 3 boxes in the goal'
+"$work/cmake-build/ball_in_field_bowl" >/dev/null
 
 # pkg-config, with the compiler alone.
 export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
