@@ -12,6 +12,7 @@
 #include "collision/ccd/projected_descent.hpp"
 #include "collision/sdf/sdf_grid.hpp"
 #include "collision/shapes/sdf_shape.hpp"
+#include "tests/collision/field_gradient_tally.hpp"
 #include "tests/collision/mesh_fixtures.hpp"
 #include "tests/collision/sampled_grid.hpp"
 #include "tests/property_scale.hpp"
@@ -22,73 +23,17 @@
 namespace tumble {
 namespace {
 
-Transform field_pose_moved(const Transform& pose, int k, Real h) {
-  Transform out = pose;
-  if (k < 3)
-    out.translation[k] += h;
-  else
-    out.rotation = (Eigen::AngleAxis<Real>(h, Vec3::Unit(k - 3)) * pose.rotation).normalized();
-  return out;
-}
-
-Quat field_random_turn(std::mt19937_64& rng) {
-  std::normal_distribution<Real> n(0, 1);
-  Quat q(n(rng), n(rng), n(rng), n(rng));
-  q.normalize();
-  return q;
-}
-
-struct FieldCase {
-  const char* name;
-  SdfNode field;
-  Shape round;
-};
-
-struct GradientTally {
-  int penetrating = 0;
-  int kinks = 0;       // the two one-sided slopes differ: a kink inside the step
-  int near_ridge = 0;  // a disagreement with the distance below `ridge`
-  int unexplained = 0;
-};
-
-// distance_between's gradients against central differences of step h on `count` random pose
-// pairs of the case, each of the 12 entries (both poses, translation then rotation).
-GradientTally tally_gradients(const FieldCase& c, std::mt19937_64& rng, int count, Real h,
-                              Real ridge = -std::numeric_limits<Real>::infinity()) {
-  std::uniform_real_distribution<Real> u(-1, 1);
-  const Shape field = sdf_shape(c.field);
-  GradientTally tally;
-  for (int i = 0; i < count; ++i) {
-    const Transform pose_b{Vec3(u(rng), u(rng), u(rng)) * 0.5, field_random_turn(rng)};
-    const Transform pose_a{pose_b.translation + Vec3(u(rng), u(rng), u(rng)) * 0.9,
-                           field_random_turn(rng)};
-    const ShapeDistance d = distance_between(c.round, pose_a, field, pose_b);
-    tally.penetrating += d.distance < 0 ? 1 : 0;
-    for (int side = 0; side < 2; ++side)
-      for (int k = 0; k < 6; ++k) {
-        const auto at = [&](Real step) {
-          return side == 0 ? distance_between(c.round, field_pose_moved(pose_a, k, step), field,
-                                              pose_b, false)
-                                 .distance
-                           : distance_between(c.round, pose_a, field,
-                                              field_pose_moved(pose_b, k, step), false)
-                                 .distance;
-        };
-        const Real plus = at(h), minus = at(-h);
-        const Real central = (plus - minus) / (2 * h);
-        const Real analytic = side == 0 ? d.gradient_a[k] : d.gradient_b[k];
-        if (std::abs(central - analytic) < 1e-5)
-          continue;
-        const Real forward = (plus - d.distance) / h, backward = (d.distance - minus) / h;
-        if (std::abs(forward - backward) > 1e-4)
-          ++tally.kinks;
-        else if (d.distance < ridge)
-          ++tally.near_ridge;
-        else
-          ++tally.unexplained;
-      }
-  }
-  return tally;
+// The torus (0.6, 0.2) sampled at the nodes of a grid of 4 cm cells over +-1.9 m: tricubic, a
+// field smooth everywhere (its interpolant rounds the torus's core ridge); trilinear, one whose
+// gradient jumps across the cells' faces.
+SdfNode torus_grid_node(GridInterpolation how = GridInterpolation::tricubic) {
+  const Real cell = 0.04;
+  const int n = 96;
+  const Vec3 origin = Vec3::Constant(-cell * (n - 1) / 2);
+  return SdfNode::from_grid(
+      std::make_shared<const SdfGrid>(test::sampled_grid(
+          origin, cell, {n, n, n}, [](const Vec3& p) { return sdf::torus(p, 0.6, 0.2).distance; })),
+      how);
 }
 
 TEST(SdfDistance, GradientsMatchCentralDifferences) {
@@ -107,6 +52,10 @@ TEST(SdfDistance, GradientsMatchCentralDifferences) {
                              {Vec3(0.3, 0, 0), Quat(Eigen::AngleAxis<Real>(1, Vec3::UnitY()))})},
                         8),
        Shape::capsule(0.08, 0.25)},
+      // A trilinear interpolant's gradient jumps across every cell face: a ball's centre lands
+      // on one with probability nil. (A capsule's least point along its core sits on a face far
+      // more often, a kink of phi along the core the least holds on: not asserted, docs/sdf.md.)
+      {"sphere-trilinear-grid", torus_grid_node(GridInterpolation::trilinear), Shape::sphere(0.15)},
   };
   std::mt19937_64 rng(51);
   const int count = scaled(10000);
@@ -118,18 +67,6 @@ TEST(SdfDistance, GradientsMatchCentralDifferences) {
     EXPECT_LT(kinks, count / 50) << c.name;
     EXPECT_GT(penetrating, count / 20) << c.name;
   }
-}
-
-// The torus (0.6, 0.2) sampled at the nodes of a grid of 4 cm cells over +-1.9 m, tricubic: a
-// field smooth everywhere (its interpolant rounds the torus's core ridge).
-SdfNode torus_grid_node() {
-  const Real cell = 0.04;
-  const int n = 96;
-  const Vec3 origin = Vec3::Constant(-cell * (n - 1) / 2);
-  return SdfNode::from_grid(
-      std::make_shared<const SdfGrid>(test::sampled_grid(
-          origin, cell, {n, n, n}, [](const Vec3& p) { return sdf::torus(p, 0.6, 0.2).distance; })),
-      GridInterpolation::tricubic);
 }
 
 // Gradients against central differences of step 1e-5 (the descents stop within about 1e-11 m
