@@ -67,12 +67,19 @@ struct ToiResult {
 // The fastest the gap between two bodies can close under their motions (radii as below): the
 // centres' speeds and each turn times its radius. conservative_advancement's step never uses
 // more, so a gap larger than this over the motion is never closed.
-inline Real greatest_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
-                                   Real radius_b) {
+// The part of it the turning adds: each body's turn times its radius (nothing for a body that
+// does not turn, even with an infinite radius: a plane).
+inline Real turning_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
+                                  Real radius_b) {
   const Real angular_a = a.angular_velocity().norm();
   const Real angular_b = b.angular_velocity().norm();
-  const Real spin_bound = (angular_a > 0 ? angular_a * radius_a : Real(0)) +
-                          (angular_b > 0 ? angular_b * radius_b : Real(0));
+  return (angular_a > 0 ? angular_a * radius_a : Real(0)) +
+         (angular_b > 0 ? angular_b * radius_b : Real(0));
+}
+
+inline Real greatest_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
+                                   Real radius_b) {
+  const Real spin_bound = turning_closing_speed(a, radius_a, b, radius_b);
   const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
   const Real full_speed = both_linear ? (a.linear_velocity() - b.linear_velocity()).norm()
                                       : a.centre_speed() + b.centre_speed();
@@ -85,11 +92,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
                                    Real radius_b, DistanceFunction&& distance,
                                    const ToiSettings& settings = {}) {
   ToiResult out;
-  const Real angular_a = a.angular_velocity().norm();
-  const Real angular_b = b.angular_velocity().norm();
-  // A body that does not turn adds nothing, even with an infinite radius (a plane).
-  const Real spin_bound = (angular_a > 0 ? angular_a * radius_a : Real(0)) +
-                          (angular_b > 0 ? angular_b * radius_b : Real(0));
+  const Real spin_bound = turning_closing_speed(a, radius_a, b, radius_b);
   const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
   const Vec3 relative_velocity = a.linear_velocity() - b.linear_velocity();
   const Real full_speed =
@@ -117,8 +120,11 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
     if (both_linear && d.separating_normal)
       approach = std::max(Real(0), -relative_velocity.dot(d.normal));
     const Real bound = approach + spin_bound;
-    // Advance until the gap could have closed to the target (never past it).
-    const Real step = bound > 0 ? (d.distance - target) / bound : Real(2);
+    // Advance until the gap could have closed to the target (never past it); by the query's own
+    // least advance where it measured one along each part's axis (a shape against a mesh).
+    Real step = bound > 0 ? (d.distance - target) / bound : Real(2);
+    if (d.least_advance > step)
+      step = d.least_advance;
     if (s + step >= 1) {
       // The gap stays above the target up to s = 1: no contact in this motion.
       out.status = ToiStatus::separated;

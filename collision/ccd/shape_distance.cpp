@@ -24,9 +24,19 @@ namespace {
 // contact but is not a distance (it can be larger than the true distance near a convex edge, and
 // the advancement would then step past the contact). The query runs in a frame centred on the
 // convex shape, for precision far from the origin.
+//
+// With `motion` (the convex shape's velocity relative to the mesh), also the least advance:
+// each triangle is convex, so the gap along its own separating normal n_t bounds its distance
+// from below and closes no faster than max(0, -v . n_t) plus the turning's part (Mirtich,
+// "Impulse-based Dynamic Simulation of Rigid Body Systems", 1996, ch. 4, per triangle); the least
+// of (d_t - target) / that rate over the triangles is how far the motion may advance. A shape
+// sliding along a mesh close above it closes on none of its triangles, where the unprojected
+// speed would advance it by its gap over its speed, a step at a time. A triangle whose distance
+// bound from the shape's ball shows it can limit neither the distance nor, at the full speed, the
+// advance is skipped.
 DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
                                    const Shape& mesh_shape, const Transform& pose_m,
-                                   Real max_distance) {
+                                   Real max_distance, const ClosingMotion* motion) {
   const TriangleMesh& mesh = *mesh_shape.mesh;
   // The convex shape in the mesh's frame, for the BVH query.
   const Transform in_mesh = pose_m.relative(pose_c);
@@ -37,6 +47,8 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
   DistanceBound out;
   out.distance = max_distance;
   out.separating_normal = false;
+  if (motion != nullptr)
+    out.least_advance = std::numeric_limits<Real>::infinity();
   bool found = false;
   // The shape lies in a ball of this radius about its centre, so a triangle whose plane is
   // farther from the centre than the radius plus the nearest distance found cannot be nearer
@@ -44,19 +56,28 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
   // GJK query is skipped; the band keeps rounding from changing the answer.
   const Real radius = bounding_radius(convex);
   const Real band = Real(1e-9) * (radius + std::abs(max_distance) + mesh.bounding_radius());
+  const Real full_speed =
+      motion != nullptr ? motion->relative_velocity.norm() + motion->spin_bound : Real(0);
+  // Whether a triangle at least `bound` from the shape could limit the advance found so far.
+  const auto may_limit_advance = [&](Real bound) {
+    return motion != nullptr &&
+           !(bound - motion->target_distance >= out.least_advance * full_speed);
+  };
   mesh.for_each_overlapping(reach, [&](int t) {
     // Corners in the world frame, then relative to the shape's centre.
     std::array<Vec3, 3> corners;
     for (int k = 0; k < 3; ++k)
       corners[std::size_t(k)] = pose_m.apply(mesh.corner(t, k)) - pose_c.translation;
     const Real plane_distance = std::abs(pose_m.rotate(mesh.normal(t)).dot(corners[0]));
-    if (plane_distance - radius > out.distance + band)
+    if (plane_distance - radius > out.distance + band &&
+        !may_limit_advance(plane_distance - radius))
       return;
     // The same bound from the triangle itself, tighter where the centre lies beside the
     // triangle rather than over it (a terrain's neighbouring triangles share its plane).
     const Real triangle_distance =
         closest_point_on_triangle(Vec3::Zero(), corners[0], corners[1], corners[2]).norm();
-    if (triangle_distance - radius > out.distance + band)
+    if (triangle_distance - radius > out.distance + band &&
+        !may_limit_advance(triangle_distance - radius))
       return;
     const ConvexSupport triangle = ConvexSupport::of_points(corners.data(), 3, {});
     const GjkResult g = gjk(shape_support, triangle);
@@ -68,7 +89,16 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
       normal = e.normal;
     }
     // Farther than asked counts as not measured; otherwise keep the nearest triangle.
-    if (!(distance <= max_distance) || (found && distance >= out.distance))
+    if (!(distance <= max_distance))
+      return;
+    if (motion != nullptr) {
+      const Real rate =
+          std::max(Real(0), -motion->relative_velocity.dot(normal)) + motion->spin_bound;
+      const Real gap = distance - motion->target_distance;
+      if (!(rate * out.least_advance <= gap))
+        out.least_advance = rate > 0 ? std::max(gap, Real(0)) / rate : out.least_advance;
+    }
+    if (found && distance >= out.distance)
       return;
     out.distance = distance;
     out.normal = normal;
@@ -180,13 +210,21 @@ DistanceBound box_box_separation(const Vec3& half_a, const Transform& pose_a, co
 }
 
 DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
-                                   const Transform& pose_b, Real max_distance, Real stop_distance) {
+                                   const Transform& pose_b, Real max_distance, Real stop_distance,
+                                   const ClosingMotion* motion) {
   if (a.type == ShapeType::box && b.type == ShapeType::box)
     return box_box_separation(a.half_extents, pose_a, b.half_extents, pose_b);
   if (b.type == ShapeType::mesh && is_convex(a))
-    return convex_mesh_distance(a, pose_a, b, pose_b, max_distance);
+    return convex_mesh_distance(a, pose_a, b, pose_b, max_distance, motion);
   if (a.type == ShapeType::mesh && is_convex(b)) {
-    DistanceBound d = convex_mesh_distance(b, pose_b, a, pose_a, max_distance);
+    // The convex shape moves against the mesh with the opposite relative velocity.
+    ClosingMotion reversed;
+    if (motion != nullptr) {
+      reversed = *motion;
+      reversed.relative_velocity = -motion->relative_velocity;
+    }
+    DistanceBound d =
+        convex_mesh_distance(b, pose_b, a, pose_a, max_distance, motion ? &reversed : nullptr);
     d.normal = -d.normal;
     return d;
   }

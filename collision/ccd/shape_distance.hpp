@@ -21,6 +21,21 @@ struct DistanceBound {
   // triangle's or part's, and another may be approached faster from another direction): then
   // only the unprojected speed bounds the approach.
   bool separating_normal = true;
+  // How far (in the motion's parameter) the pair may advance before the gap can have closed to
+  // the target, measured along each nearby part's own separating axis: a convex shape against a
+  // mesh, asked with a ClosingMotion, where no one axis separates the whole mesh but each
+  // triangle has its own; infinity when no triangle closes. Negative when not measured
+  // (conservative advancement then steps by `distance` over the unprojected speed alone).
+  Real least_advance = -1;
+};
+
+// What conservative advancement knows of the motions of a pair whose centres move on straight
+// lines (both of the linear kind): A's velocity less B's [m per unit of the motion's parameter],
+// the most the turning of both adds to the closing speed, and the gap it advances to.
+struct ClosingMotion {
+  Vec3 relative_velocity = Vec3::Zero();
+  Real spin_bound = 0;
+  Real target_distance = 0;
 };
 
 // `max_distance`: beyond it the answer may be any bound >= max_distance [m]. When nothing is
@@ -29,9 +44,10 @@ struct DistanceBound {
 // the two, a cheaper and looser bound from the shapes' bounding balls is returned while it
 // exceeds `stop_distance` (conservative advancement's target plus tolerance, where it stops: a
 // loose bound there would stop it early) and a quarter of the smaller bounding radius.
+// `motion`, when given, lets a convex shape against a mesh also answer `least_advance`.
 DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, const Shape& b,
                                    const Transform& pose_b, Real max_distance,
-                                   Real stop_distance = 0);
+                                   Real stop_distance = 0, const ClosingMotion* motion = nullptr);
 
 // Separating-axis lower bound of the distance between two boxes: the largest gap along the 15
 // axes of the box-box test (3 + 3 face normals, 9 edge cross products). It equals the distance

@@ -35,8 +35,18 @@ ToiResult time_of_impact(const Shape& a, const RigidMotion& motion_a, const Shap
   const Real max_distance =
       reach + std::max(settings.target_distance, Real(0)) + settings.tolerance + Real(1e-9);
   const Real stop = stop_distance(settings);
+  // Centres on straight lines: the mesh pairs may measure their advance along each triangle's
+  // own axis (shape_distance.hpp).
+  ClosingMotion closing;
+  const bool straight =
+      motion_a.kind() == MotionKind::linear && motion_b.kind() == MotionKind::linear;
+  if (straight) {
+    closing.relative_velocity = motion_a.linear_velocity() - motion_b.linear_velocity();
+    closing.spin_bound = turning_closing_speed(motion_a, radius_a, motion_b, radius_b);
+    closing.target_distance = settings.target_distance;
+  }
   auto distance = [&](const Transform& pa, const Transform& pb) {
-    return shape_distance_bound(a, pa, b, pb, max_distance, stop);
+    return shape_distance_bound(a, pa, b, pb, max_distance, stop, straight ? &closing : nullptr);
   };
   return conservative_advancement(motion_a, radius_a, motion_b, radius_b, distance, settings);
 }
