@@ -111,12 +111,7 @@ TEST(NeuralSdfFile, DistanceGradientsOnTheCommittedTorusMatchCentralDifferences)
   for (const FieldCase& c : cases) {
     const bool ball = c.round.type == ShapeType::sphere;
     const int count = property_scale() < 1 ? (ball ? 1000 : 100) : (ball ? 10000 : 500);
-    const auto [penetrating, kinks, near_ridge, unexplained] = tally_gradients(c, rng, count, 1e-6);
-    std::printf("%s: %d configurations, %d penetrating, %d kinks\n", c.name, count, penetrating,
-                kinks);
-    EXPECT_EQ(unexplained, 0) << c.name;
-    EXPECT_LT(kinks, count / 50) << c.name;
-    EXPECT_GT(penetrating, count / 20) << c.name;
+    expect_round_gradients_match(c, rng, count);
   }
 }
 
