@@ -16,6 +16,7 @@
 #include "collision/ccd/projected_descent.hpp"
 #include "collision/narrow_phase/gjk_epa/epa.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
+#include "collision/narrow_phase/pairs/pairs.hpp"
 #include "collision/shapes/sdf_shape.hpp"
 #include "tumble/distance.hpp"
 #include "tumble/error.hpp"
@@ -292,9 +293,38 @@ ShapeDistance plane_and_convex(const Transform& plane_pose, const Shape& b,
   return d;
 }
 
-// The distance, points, normal and, when asked, the gradients from them.
+// A shape's support set along `direction` as the distinct points that the direction and the
+// directions turned 1e-7 rad either way about two axes pick, points within a millionth of the
+// shape's size counted once: a vertex or a point of a rounded surface or a cylinder's rim gives
+// 1; an edge or a cylinder's side line its 2 ends; a face or a cap more. Returns the count.
+int support_feature(const ConvexSupport& s, const Vec3& direction, std::array<Vec3, 5>& points) {
+  const Vec3 n = direction.normalized();
+  const auto support = [&](const Vec3& d) {
+    int index = 0;
+    return Vec3(s.core_support(d, index) + s.radius * d.normalized());
+  };
+  const Vec3 u = n.unitOrthogonal();
+  const Vec3 v = n.cross(u);
+  constexpr Real kTurn = Real(1e-7);
+  const Real size = (support(n) - support(-n)).norm() + s.radius;
+  int count = 0;
+  for (const Vec3& d :
+       {n, Vec3(n + kTurn * u), Vec3(n - kTurn * u), Vec3(n + kTurn * v), Vec3(n - kTurn * v)}) {
+    const Vec3 p = support(d);
+    bool known = false;
+    for (int k = 0; k < count; ++k)
+      known = known || (points[std::size_t(k)] - p).norm() <= Real(1e-6) * size;
+    if (!known)
+      points[std::size_t(count++)] = p;
+  }
+  return count;
+}
+
+// `on_flat_features`, when given, is set where a cylinder pair overlaps with neither support
+// along the normal a single point (an edge across the cylinder's side line, a face on its cap):
+// there EPA's points need not be on the line of contact.
 ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
-                      const Transform& pose_b, bool gradients) {
+                      const Transform& pose_b, bool gradients, bool* on_flat_features = nullptr) {
   ShapeDistance d;
   if (a.type == ShapeType::plane && b.type == ShapeType::plane) {
     throw Error("distance_between: two planes (the distance is that of their normals' angle)");
@@ -321,6 +351,36 @@ ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
       d.point_a = e.point_a + origin;
       d.point_b = e.point_b + origin;
       d.converged = e.status == EpaStatus::converged;
+      // EPA's witness points interpolate its closest face's vertices. Against a cylinder they
+      // may interpolate rim points (a chord off the rim) or points of the partner's rounded or
+      // polygonal surface around the line of contact, and the rotation gradients came out
+      // wrong. The depth's derivative is that of the supports along the fixed normal (the
+      // envelope theorem), and only a point's offset across the normal enters it: where either
+      // shape's support along the normal is one point, that point and, for the other shape, the
+      // point on the normal's line through it; where both are segments (an edge across the
+      // cylinder's side line), the points where they cross, seen along the normal. Where a
+      // support is a face, or the segments are parallel, the caller is told.
+      if (a.type == ShapeType::cylinder || b.type == ShapeType::cylinder) {
+        std::array<Vec3, 5> on_a, on_b;
+        const int count_a = support_feature(sa, -d.normal, on_a);
+        const int count_b = support_feature(sb, d.normal, on_b);
+        const Vec3 along_a = on_a[1] - on_a[0], along_b = on_b[1] - on_b[0];
+        if (count_a == 1) {
+          d.point_a = on_a[0] + origin;
+          d.point_b = d.point_a - d.distance * d.normal;
+        } else if (count_b == 1) {
+          d.point_b = on_b[0] + origin;
+          d.point_a = d.point_b + d.distance * d.normal;
+        } else if (count_a == 2 && count_b == 2 &&
+                   along_a.cross(along_b).norm() > Real(1e-6) * along_a.norm() * along_b.norm()) {
+          Real s = 0, t = 0;
+          detail::closest_parameters_between_segments(on_a[0], on_a[1], on_b[0], on_b[1], s, t);
+          d.point_a = on_a[0] + s * along_a + origin;
+          d.point_b = on_b[0] + t * along_b + origin;
+        } else if (on_flat_features != nullptr) {
+          *on_flat_features = true;
+        }
+      }
     } else {
       d.distance = g.distance;
       d.normal = g.normal;
@@ -334,12 +394,11 @@ ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
   return d;
 }
 
-// EPA's witness points interpolate its closest face's vertices. On a polytope or a rounded core
-// they lie on the line of contact, and the gradients above are exact; on a cylinder's curved
-// rim they lie on a chord, off that line, and the rotation gradients came out wrong (2,700 of
-// 10,000 penetrating box-cylinder pairs). The depth itself is smooth and precise there (central
-// differences agree to 1e-9 from steps of 1e-3 down to 1e-7), so a penetrating pair with a
-// cylinder takes its gradients from central differences of the distance: 24 more queries.
+// A penetrating cylinder pair where neither support along the normal is one point (a box's
+// edge across the cylinder's side line, say): EPA's points need not lie on the line of contact
+// there, and no single support gives it. The depth itself is smooth and precise (central
+// differences agree to 1e-9 from steps of 1e-3 down to 1e-7), so such a pair takes its gradients
+// from central differences of the distance: 24 more queries.
 void numerical_gradients(ShapeDistance& d, const Shape& a, const Transform& pose_a, const Shape& b,
                          const Transform& pose_b) {
   constexpr Real h = 1e-6;  // m and rad
@@ -399,10 +458,9 @@ ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Sh
     }
     return d;
   }
-  ShapeDistance d = measure(a, pose_a, b, pose_b, gradients);
-  if (!gradients)
-    return d;
-  if (d.distance < 0 && (a.type == ShapeType::cylinder || b.type == ShapeType::cylinder))
+  bool on_flat_features = false;
+  ShapeDistance d = measure(a, pose_a, b, pose_b, gradients, &on_flat_features);
+  if (gradients && on_flat_features)
     numerical_gradients(d, a, pose_a, b, pose_b);
   return d;
 }

@@ -43,9 +43,9 @@ struct ShapeDistance {
 // from grad phi there, zero where that point is a kink of the field phi cannot go below; two
 // fields: the least of phi_A + phi_B (their distance while apart). Throws tumble::Error for a
 // mesh, a compound, two planes, or a pose that is not finite. Without `gradients` the gradients
-// are left zero (a penetrating pair with a cylinder then costs one query instead of 25: its
-// gradients are central differences of the depth, since EPA's witness points on the curved rim
-// are off the line of contact).
+// are left zero (a penetrating pair with a cylinder whose supports along the normal are both
+// faces then costs one query instead of 25: its gradients are central differences of the depth;
+// docs/sdf.md, "Cylinders in penetration").
 ShapeDistance distance_between(const Shape& a, const Transform& pose_a, const Shape& b,
                                const Transform& pose_b, bool gradients = true);
 

@@ -3,9 +3,10 @@
 // distance is not differentiable (parallel features: a kink within the step) central
 // differences and the one-sided gradient disagree; such points are recognised by the analytic
 // gradient jumping between the two sides, counted and printed, and must stay rare. No other
-// disagreement is allowed. A penetrating pair with a cylinder has gradients that are themselves
-// central differences (over 1e-6; include/tumble/distance.hpp says why): for those this checks
-// them against a step a thousand times longer, that is, that the depth is smooth and precise.
+// disagreement is allowed. A penetrating pair with a cylinder takes its points from the supports
+// along the normal (docs/sdf.md, "Cylinders in penetration"); where both supports are faces or
+// parallel segments (under 1% of them) its gradients are themselves central differences over
+// 1e-6, which this checks against a step a thousand times longer.
 #include <gtest/gtest.h>
 
 #include <cstdio>
