@@ -19,8 +19,14 @@ void require_bounded(const Shape& shape, const std::string& name, const char* ki
 
 }  // namespace
 
-BodyDesc dynamic_body(std::string name, Shape shape, Real density) {
+BodyDesc dynamic_body(std::string name, Shape shape, std::optional<Real> given_density) {
   require_bounded(shape, name, "dynamic");
+  // As in a scene file (docs/scene-format.md): a field's mass is not assumed.
+  if (!given_density && shape.type == ShapeType::sdf)
+    throw Error("body '" + name +
+                "': a dynamic signed distance field needs a density (its volume is integrated "
+                "over its cells)");
+  const Real density = given_density.value_or(Real(1000));
   if (!(std::isfinite(density) && density > 0))
     throw Error("body '" + name + "': density must be positive and finite, got " +
                 number_text(density));

@@ -59,9 +59,11 @@ struct BodyDesc {
 };
 
 // Bodies built in code, with mass and inertia from the shape. A dynamic body of `density`
-// [kg/m^3]; a static body; a kinematic body. Throws tumble::Error for a plane or mesh made
-// dynamic or kinematic, or a density that is not positive and finite.
-BodyDesc dynamic_body(std::string name, Shape shape, Real density = 1000);
+// [kg/m^3] (1000 when not given, except for a signed distance field, whose volume is integrated
+// over its cells and which needs it given); a static body; a kinematic body. Throws
+// tumble::Error for a plane or mesh made dynamic or kinematic, a field without a density, or a
+// density that is not positive and finite.
+BodyDesc dynamic_body(std::string name, Shape shape, std::optional<Real> density = std::nullopt);
 BodyDesc static_body(std::string name, Shape shape);
 BodyDesc kinematic_body(std::string name, Shape shape);
 

@@ -114,6 +114,12 @@ TEST(ApiErrors, ShapeBuildersRejectBadData) {
   EXPECT_THROW(mesh_from_triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 3}}), Error);
   EXPECT_THROW(dynamic_body("p", Shape::plane()), Error);
   EXPECT_THROW(dynamic_body("s", Shape::sphere(1), -5), Error);
+  // A field's mass is not assumed: it needs its density, as in a scene file.
+  const Shape ring =
+      load_shape_text("{type: sdf, sdf: {torus: {major_radius: 1, minor_radius: 0.25}}}");
+  EXPECT_THROW(dynamic_body("ring", ring), Error);
+  const BodyDesc given = dynamic_body("ring", ring, 500);
+  EXPECT_NEAR(given.mass, 500 * 2 * M_PI * M_PI * 1 * 0.25 * 0.25, 0.01 * given.mass);
 }
 
 // Found by tests/fuzz/fuzz_short_scene: a density of -1.8e308 was written out in its 309 digits.
