@@ -99,7 +99,8 @@ namespace {
 // distance (tests/collision/field_gradient_tally.hpp), on 10,000 random configurations of the
 // ball and 500 of the capsule (each capsule query samples the network about 50 times along the
 // core, 25 queries a configuration: 10,000 took 160 s; the capsule-field pair itself is checked on
-// 10,000 against analytic fields in tests/collision/sdf_distance_test.cpp). The network is smooth
+// 10,000 against analytic fields in tests/collision/sdf_distance_test.cpp; 200 and 50 in the
+// instrumented run, where the network is ten times slower). The network is smooth
 // (softplus), so every disagreement is unexplained but for a capsule's least point jumping
 // between two basins along its core (a kink: the one-sided differences disagree).
 TEST(NeuralSdfFile, DistanceGradientsOnTheCommittedTorusMatchCentralDifferences) {
@@ -110,7 +111,7 @@ TEST(NeuralSdfFile, DistanceGradientsOnTheCommittedTorusMatchCentralDifferences)
   std::mt19937_64 rng(57);
   for (const FieldCase& c : cases) {
     const bool ball = c.round.type == ShapeType::sphere;
-    const int count = property_scale() < 1 ? (ball ? 1000 : 100) : (ball ? 10000 : 500);
+    const int count = property_scale() < 1 ? (ball ? 200 : 50) : (ball ? 10000 : 500);
     expect_round_gradients_match(c, rng, count);
   }
 }
