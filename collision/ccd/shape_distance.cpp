@@ -228,23 +228,35 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
     d.normal = -d.normal;
     return d;
   }
-  // A compound against a mesh: its nearest part.
+  // A compound against a mesh: its nearest part, and the least advance of any part (a part's
+  // points move no faster along a triangle's normal than the compound's centre does plus the
+  // compound's turning part, which `motion` bounds with the compound's own radius).
   if (a.type == ShapeType::compound && b.type == ShapeType::mesh) {
     DistanceBound best;
     best.distance = max_distance;
     best.separating_normal = false;
+    if (motion != nullptr)
+      best.least_advance = std::numeric_limits<Real>::infinity();
     for (const CompoundPart& part : a.compound->parts()) {
-      const DistanceBound d =
-          shape_distance_bound(part.shape, compose(pose_a, part.pose), b, pose_b, max_distance);
+      const DistanceBound d = shape_distance_bound(part.shape, compose(pose_a, part.pose), b,
+                                                   pose_b, max_distance, stop_distance, motion);
       if (d.distance < best.distance) {
         best.distance = d.distance;
         best.normal = d.normal;
       }
+      if (motion != nullptr)
+        best.least_advance = std::min(best.least_advance, d.least_advance);
     }
     return best;
   }
   if (a.type == ShapeType::mesh && b.type == ShapeType::compound) {
-    DistanceBound d = shape_distance_bound(b, pose_b, a, pose_a, max_distance);
+    ClosingMotion reversed;
+    if (motion != nullptr) {
+      reversed = *motion;
+      reversed.relative_velocity = -motion->relative_velocity;
+    }
+    DistanceBound d = shape_distance_bound(b, pose_b, a, pose_a, max_distance, stop_distance,
+                                           motion != nullptr ? &reversed : nullptr);
     d.normal = -d.normal;
     return d;
   }

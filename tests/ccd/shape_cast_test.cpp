@@ -212,6 +212,17 @@ TEST(ShapeCast, AShapeSlidingOverAMeshAdvancesByItsDescent) {
   EXPECT_NEAR(hit.time_of_impact, 0.6, 1e-7 / 0.005);
   EXPECT_LT(hit.iterations, 8);
   EXPECT_NEAR(hit.normal.z(), 1, 1e-9);
+  // A compound the same: each part steps along each triangle's axis. Two boxes side by side,
+  // their bottoms 3 mm over the mesh.
+  const Shape pair = compound_in_frame(
+      {{Shape::box(Vec3(0.3, 0.2, 0.25)), Transform{}},
+       {Shape::box(Vec3(0.3, 0.2, 0.25)), Transform{Vec3(0, 0.5, 0), Quat::Identity()}}});
+  const ToiResult pair_apart = shape_cast(pair, pose, Vec3(2, 0, -0.001), ground, {}, settings);
+  EXPECT_EQ(pair_apart.status, ToiStatus::separated);
+  EXPECT_LT(pair_apart.iterations, 16);
+  const ToiResult pair_hit = shape_cast(pair, pose, Vec3(2, 0, -0.005), ground, {}, settings);
+  ASSERT_EQ(pair_hit.status, ToiStatus::hit);
+  EXPECT_NEAR(pair_hit.time_of_impact, 0.6, 1e-7 / 0.005);
 }
 
 }  // namespace
