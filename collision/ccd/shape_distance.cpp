@@ -214,17 +214,17 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
                                    const ClosingMotion* motion) {
   if (a.type == ShapeType::box && b.type == ShapeType::box)
     return box_box_separation(a.half_extents, pose_a, b.half_extents, pose_b);
+  // Asked the other way round (B against A), B moves against A with the opposite velocity.
+  ClosingMotion reversed;
+  if (motion != nullptr) {
+    reversed = *motion;
+    reversed.relative_velocity = -motion->relative_velocity;
+  }
+  const ClosingMotion* motion_of_b = motion != nullptr ? &reversed : nullptr;
   if (b.type == ShapeType::mesh && is_convex(a))
     return convex_mesh_distance(a, pose_a, b, pose_b, max_distance, motion);
   if (a.type == ShapeType::mesh && is_convex(b)) {
-    // The convex shape moves against the mesh with the opposite relative velocity.
-    ClosingMotion reversed;
-    if (motion != nullptr) {
-      reversed = *motion;
-      reversed.relative_velocity = -motion->relative_velocity;
-    }
-    DistanceBound d =
-        convex_mesh_distance(b, pose_b, a, pose_a, max_distance, motion ? &reversed : nullptr);
+    DistanceBound d = convex_mesh_distance(b, pose_b, a, pose_a, max_distance, motion_of_b);
     d.normal = -d.normal;
     return d;
   }
@@ -250,13 +250,8 @@ DistanceBound shape_distance_bound(const Shape& a, const Transform& pose_a, cons
     return best;
   }
   if (a.type == ShapeType::mesh && b.type == ShapeType::compound) {
-    ClosingMotion reversed;
-    if (motion != nullptr) {
-      reversed = *motion;
-      reversed.relative_velocity = -motion->relative_velocity;
-    }
-    DistanceBound d = shape_distance_bound(b, pose_b, a, pose_a, max_distance, stop_distance,
-                                           motion != nullptr ? &reversed : nullptr);
+    DistanceBound d =
+        shape_distance_bound(b, pose_b, a, pose_a, max_distance, stop_distance, motion_of_b);
     d.normal = -d.normal;
     return d;
   }

@@ -198,31 +198,25 @@ TEST(ShapeCast, AShapeSlidingOverAMeshAdvancesByItsDescent) {
   const Shape ground = height_field(24, 0.5, [](Real, Real) { return Real(0); });
   const Transform pose{Vec3(-1, 0.3, 0.25 + 0.003), Quat::Identity()};
   const Shape box = Shape::box(Vec3(0.3, 0.2, 0.25));
+  // A compound the same: each part steps along each triangle's axis. Two such boxes side by side.
+  const Shape pair =
+      compound_in_frame({{box, Transform{}}, {box, Transform{Vec3(0, 0.5, 0), Quat::Identity()}}});
   ToiSettings settings;
   settings.tolerance = 1e-7;
   settings.max_iterations = 64;
-  // 2 m along x, 1 mm down: it never reaches the mesh.
-  const ToiResult apart = shape_cast(box, pose, Vec3(2, 0, -0.001), ground, {}, settings);
-  EXPECT_EQ(apart.status, ToiStatus::separated);
-  // A step per triangle edge met ahead (each closes obliquely on its own axis): 9 measured.
-  EXPECT_LT(apart.iterations, 16);
-  // 2 m along x, 5 mm down: it touches three fifths of the way.
-  const ToiResult hit = shape_cast(box, pose, Vec3(2, 0, -0.005), ground, {}, settings);
-  ASSERT_EQ(hit.status, ToiStatus::hit);
-  EXPECT_NEAR(hit.time_of_impact, 0.6, 1e-7 / 0.005);
-  EXPECT_LT(hit.iterations, 8);
-  EXPECT_NEAR(hit.normal.z(), 1, 1e-9);
-  // A compound the same: each part steps along each triangle's axis. Two boxes side by side,
-  // their bottoms 3 mm over the mesh.
-  const Shape pair = compound_in_frame(
-      {{Shape::box(Vec3(0.3, 0.2, 0.25)), Transform{}},
-       {Shape::box(Vec3(0.3, 0.2, 0.25)), Transform{Vec3(0, 0.5, 0), Quat::Identity()}}});
-  const ToiResult pair_apart = shape_cast(pair, pose, Vec3(2, 0, -0.001), ground, {}, settings);
-  EXPECT_EQ(pair_apart.status, ToiStatus::separated);
-  EXPECT_LT(pair_apart.iterations, 16);
-  const ToiResult pair_hit = shape_cast(pair, pose, Vec3(2, 0, -0.005), ground, {}, settings);
-  ASSERT_EQ(pair_hit.status, ToiStatus::hit);
-  EXPECT_NEAR(pair_hit.time_of_impact, 0.6, 1e-7 / 0.005);
+  for (const Shape& shape : {box, pair}) {
+    // 2 m along x, 1 mm down: it never reaches the mesh.
+    const ToiResult apart = shape_cast(shape, pose, Vec3(2, 0, -0.001), ground, {}, settings);
+    EXPECT_EQ(apart.status, ToiStatus::separated);
+    // A step per triangle edge met ahead (each closes obliquely on its own axis): 9 measured.
+    EXPECT_LT(apart.iterations, 16);
+    // 2 m along x, 5 mm down: it touches three fifths of the way.
+    const ToiResult hit = shape_cast(shape, pose, Vec3(2, 0, -0.005), ground, {}, settings);
+    ASSERT_EQ(hit.status, ToiStatus::hit);
+    EXPECT_NEAR(hit.time_of_impact, 0.6, 1e-7 / 0.005);
+    EXPECT_LT(hit.iterations, 8);
+    EXPECT_NEAR(hit.normal.z(), 1, 1e-9);
+  }
 }
 
 }  // namespace
