@@ -364,19 +364,28 @@ ShapeDistance measure(const Shape& a, const Transform& pose_a, const Shape& b,
         std::array<Vec3, 5> on_a, on_b;
         const int count_a = support_feature(sa, -d.normal, on_a);
         const int count_b = support_feature(sb, d.normal, on_b);
-        const Vec3 along_a = on_a[1] - on_a[0], along_b = on_b[1] - on_b[0];
+        const auto crossing = [&](Vec3& point_a, Vec3& point_b) {
+          if (count_a != 2 || count_b != 2)
+            return false;
+          const Vec3 along_a = on_a[1] - on_a[0], along_b = on_b[1] - on_b[0];
+          if (!(along_a.cross(along_b).norm() > Real(1e-6) * along_a.norm() * along_b.norm()))
+            return false;  // parallel: no single crossing
+          Real s = 0, t = 0;
+          detail::closest_parameters_between_segments(on_a[0], on_a[1], on_b[0], on_b[1], s, t);
+          point_a = on_a[0] + s * along_a;
+          point_b = on_b[0] + t * along_b;
+          return true;
+        };
+        Vec3 cross_a, cross_b;
         if (count_a == 1) {
           d.point_a = on_a[0] + origin;
           d.point_b = d.point_a - d.distance * d.normal;
         } else if (count_b == 1) {
           d.point_b = on_b[0] + origin;
           d.point_a = d.point_b + d.distance * d.normal;
-        } else if (count_a == 2 && count_b == 2 &&
-                   along_a.cross(along_b).norm() > Real(1e-6) * along_a.norm() * along_b.norm()) {
-          Real s = 0, t = 0;
-          detail::closest_parameters_between_segments(on_a[0], on_a[1], on_b[0], on_b[1], s, t);
-          d.point_a = on_a[0] + s * along_a + origin;
-          d.point_b = on_b[0] + t * along_b + origin;
+        } else if (crossing(cross_a, cross_b)) {
+          d.point_a = cross_a + origin;
+          d.point_b = cross_b + origin;
         } else if (on_flat_features != nullptr) {
           *on_flat_features = true;
         }
