@@ -64,11 +64,16 @@ struct ToiResult {
   bool hit() const { return status == ToiStatus::hit || status == ToiStatus::overlapping; }
 };
 
-// The fastest the gap between two bodies can close under their motions (radii as below): the
-// centres' speeds and each turn times its radius. conservative_advancement's step never uses
-// more, so a gap larger than this over the motion is never closed.
-// The part of it the turning adds: each body's turn times its radius (nothing for a body that
-// does not turn, even with an infinite radius: a plane).
+// The fastest two bodies' centres close under their motions: their relative speed when both move
+// on straight lines, else the sum of their speeds.
+inline Real centre_closing_speed(const RigidMotion& a, const RigidMotion& b) {
+  const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
+  return both_linear ? (a.linear_velocity() - b.linear_velocity()).norm()
+                     : a.centre_speed() + b.centre_speed();
+}
+
+// The part the turning adds: each body's turn times its radius (nothing for a body that does
+// not turn, even with an infinite radius: a plane).
 inline Real turning_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
                                   Real radius_b) {
   const Real angular_a = a.angular_velocity().norm();
@@ -77,13 +82,12 @@ inline Real turning_closing_speed(const RigidMotion& a, Real radius_a, const Rig
          (angular_b > 0 ? angular_b * radius_b : Real(0));
 }
 
+// The fastest the gap between two bodies can close under their motions (radii as below), the
+// two parts above: conservative_advancement's step never assumes more, so a gap larger than this
+// over the motion is never closed.
 inline Real greatest_closing_speed(const RigidMotion& a, Real radius_a, const RigidMotion& b,
                                    Real radius_b) {
-  const Real spin_bound = turning_closing_speed(a, radius_a, b, radius_b);
-  const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
-  const Real full_speed = both_linear ? (a.linear_velocity() - b.linear_velocity()).norm()
-                                      : a.centre_speed() + b.centre_speed();
-  return full_speed + spin_bound;
+  return centre_closing_speed(a, b) + turning_closing_speed(a, radius_a, b, radius_b);
 }
 
 // r_a, r_b: bounding radii about the centres of mass (0 for a body that does not turn).
@@ -95,8 +99,7 @@ ToiResult conservative_advancement(const RigidMotion& a, Real radius_a, const Ri
   const Real spin_bound = turning_closing_speed(a, radius_a, b, radius_b);
   const bool both_linear = a.kind() == MotionKind::linear && b.kind() == MotionKind::linear;
   const Vec3 relative_velocity = a.linear_velocity() - b.linear_velocity();
-  const Real full_speed =
-      both_linear ? relative_velocity.norm() : a.centre_speed() + b.centre_speed();
+  const Real full_speed = centre_closing_speed(a, b);
   const Real target = settings.target_distance;
   const Real stop = stop_distance(settings);
   Real s = 0;
