@@ -14,10 +14,6 @@ namespace tumble {
 
 namespace {
 
-constexpr int diagonal_index(int i) {
-  return i * (i + 3) / 2;  // (i, i) in the packed lower triangle
-}
-
 // Soft spring of angular frequency w and damping ratio z, discretised implicitly over the
 // substep h (Catto, Solver2D): a1 = 2 z + h w, a2 = h w a1. The bias velocity is (w / a1) *
 // separation, and each row's compliance is J M^-1 J^T / a2, so the response does not depend on
@@ -167,6 +163,8 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   const Mat3& ib = inverse_inertia_world[std::size_t(b)];
   m.inv_inertia_a = packed_symmetric(ia);
   m.inv_inertia_b = packed_symmetric(ib);
+  m.inv_inertia_lower_a = {ia(1, 0), ia(2, 0), ia(2, 1)};
+  m.inv_inertia_lower_b = {ib(1, 0), ib(2, 0), ib(2, 1)};
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
   // The points in the order of their feature keys, not the narrow phase's: the rows of a face
   // contact are solved one by one where the block would pull (docs/architecture.md), and their
@@ -181,9 +179,6 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
       order[std::size_t(j)] = order[std::size_t(j - 1)];
     order[std::size_t(j)] = k;
   }
-  // r x n and I^-1 (r x n) of each point, for the normal rows' matrix only (the passes compute
-  // the angular response from the bundle's inverse inertias): locals, not record fields.
-  std::array<Vec3, kMaxManifoldPoints> rn_a, rn_b, in_a, in_b;
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& cp = pc.manifold.points[std::size_t(order[std::size_t(k)])];
     PointRecord& p = m.points[std::size_t(k)];
@@ -191,27 +186,17 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     // stalled the loads that followed them (a load spanning two stores is not forwarded).
     const Vec3 r_a = cp.position - sa.position;
     const Vec3 r_b = cp.position - sb.position;
-    rn_a[std::size_t(k)] = r_a.cross(m.normal);
-    rn_b[std::size_t(k)] = r_b.cross(m.normal);
+    const Vec3 rn_a = r_a.cross(m.normal);
+    const Vec3 rn_b = r_b.cross(m.normal);
     p.r_a = r_a;
     p.r_b = r_b;
-    in_a[std::size_t(k)] = ia * rn_a[std::size_t(k)];
-    in_b[std::size_t(k)] = ib * rn_b[std::size_t(k)];
-    p.tangent_mass1 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent1);
-    p.tangent_mass2 = detail::effective_mass(inv_mass_sum, ia, ib, r_a, r_b, m.tangent2);
+    p.normal_diagonal = inv_mass_sum + rn_a.dot(ia * rn_a) + rn_b.dot(ib * rn_b);
     p.base_separation = -cp.depth;
     p.normal_impulse = 0;
     p.tangent_impulse1 = 0;
     p.tangent_impulse2 = 0;
     p.feature = cp.feature.key();
     p.local_a = sa.orientation.conjugate() * r_a;
-  }
-  for (int i = 0; i < m.count; ++i) {
-    for (int j = 0; j <= i; ++j) {
-      m.delassus[std::size_t(i * (i + 1) / 2 + j)] =
-          inv_mass_sum + rn_a[std::size_t(i)].dot(in_a[std::size_t(j)]) +
-          rn_b[std::size_t(i)].dot(in_b[std::size_t(j)]);
-    }
   }
   // The load: what the warm start says the points carried, and at least the weight of the
   // body on top (the one the normal points up into) shared by the points, so that a heavy body
@@ -225,7 +210,7 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     warm_start_from(*cached, pc.match_distance, m);
   load = ContactLoad{};
   for (int k = 0; k < m.count; ++k) {
-    const Real diagonal = m.delassus[std::size_t(diagonal_index(k))];
+    const Real diagonal = m.points[std::size_t(k)].normal_diagonal;
     load.inverse_effective_mass = std::max(load.inverse_effective_mass, diagonal);
     load.warm = std::max(load.warm, m.points[std::size_t(k)].normal_impulse / dt * diagonal);
     load.weight = std::max(load.weight, weight_share * diagonal);

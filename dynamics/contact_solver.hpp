@@ -164,7 +164,7 @@ class ContactSolver {
   struct PointRecord {
     Vec3 r_a = Vec3::Zero();  // lever arms at the start of the step (world)
     Vec3 r_b = Vec3::Zero();
-    Real tangent_mass1 = 0, tangent_mass2 = 0;
+    Real normal_diagonal = 0;  // J M^-1 J^T of the normal row (the substep choice needs it)
     Real base_separation = 0;  // -depth: both anchors start at the contact point
     // Accumulated impulses: over the step after build(), per substep once packed.
     Real normal_impulse = 0;
@@ -174,7 +174,9 @@ class ContactSolver {
   };
 
  public:
-  // The width-independent record of one manifold, made by build() and packed into lanes.
+  // The width-independent record of one manifold, made by build() and packed into lanes. The
+  // rest of the rows (the tangents' effective masses, the normal rows' coupling terms) are
+  // computed by the pack, several manifolds at a time in vector lanes.
   struct ManifoldRecord {
     std::int32_t body_a = 0, body_b = 0;
     std::int32_t slot_a = 0, slot_b = 0;  // in the compact velocity array; 0 = static
@@ -185,13 +187,14 @@ class ContactSolver {
     Real inv_mass_a = 0, inv_mass_b = 0;
     // Simulation inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
     std::array<Real, 6> inv_inertia_a{}, inv_inertia_b{};
+    // Their entries below the diagonal, yx, zx, zy: R I^-1 R^T is symmetric only to rounding, and
+    // the pack's rows multiply by the whole matrix, as build() did before the rows moved into
+    // the lanes, so that the results did not change.
+    std::array<Real, 3> inv_inertia_lower_a{}, inv_inertia_lower_b{};
     Real friction = 0, restitution = 0;
     // The separation's second derivative along the pair's sliding direction at the start of the
     // step [1/m]; 0 for a flat contact (the manifold's separation_curvature, "Curved contacts").
     Real curvature = 0;
-    // J M^-1 J^T over the normal rows, lower triangle packed row by row: (0,0), (1,0), (1,1),
-    // (2,0), (2,1), (2,2), (3,0), ...
-    std::array<Real, 10> delassus{};
     std::array<PointRecord, kMaxManifoldPoints> points{};
   };
 
