@@ -799,6 +799,7 @@ void Simulation::collide_candidate_pairs() {
   sphere_candidates_.clear();
   other_candidates_.clear();
   const std::vector<RecyclableManifold>& kept = state_.manifolds;
+  static const Real recycle_half_sine = std::sin(Real(0.5) * kRecycleAngle);
   const std::vector<CachedBoxAxis>& axes = state_.box_axes;
   const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
   const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
@@ -836,9 +837,9 @@ void Simulation::collide_candidate_pairs() {
           const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
           if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] &&
               manifold != nullptr &&
-              recycle(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
-                      kRecycleDistance * smaller_radius(pair), kRecycleAngle,
-                      candidate_manifolds_[i])) {
+              recycle_within_half_sine(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
+                                       kRecycleDistance * smaller_radius(pair), recycle_half_sine,
+                                       candidate_manifolds_[i])) {
             candidate_kept_[i] = static_cast<std::int32_t>(manifold - kept.data());
             route = kRouteDone;
             continue;

@@ -28,6 +28,12 @@ RecyclableManifold make_recyclable(std::int32_t body_a, std::int32_t body_b, con
 
 bool recycle(const RecyclableManifold& kept, const Transform& a, const Transform& b,
              Real max_distance, Real max_angle, Manifold& out) {
+  return recycle_within_half_sine(kept, a, b, max_distance, std::sin(Real(0.5) * max_angle), out);
+}
+
+bool recycle_within_half_sine(const RecyclableManifold& kept, const Transform& a,
+                              const Transform& b, Real max_distance, Real max_half_sine,
+                              Manifold& out) {
   if (!kept.reusable)
     return false;
   const Vec3 offset = b.translation - a.translation;
@@ -39,7 +45,7 @@ bool recycle(const RecyclableManifold& kept, const Transform& a, const Transform
   const Quat relative_orientation = a.rotation.conjugate() * b.rotation;
   const Quat change = kept.relative_orientation.conjugate() * relative_orientation;
   const Real half_sine = change.vec().norm();
-  if (!(half_sine <= std::sin(Real(0.5) * max_angle)))
+  if (!(half_sine <= max_half_sine))
     return false;
   out.normal = a.rotate(kept.normal);
   out.count = kept.count;
