@@ -1135,6 +1135,10 @@ void Simulation::choose_substeps() {
     if (!model_->is_fixed(std::size_t(pc.body_a)) && !model_->is_fixed(std::size_t(pc.body_b)))
       islands_.join(pc.body_a, pc.body_b);
   }
+  // Each body's island root, found once: the loops below ask it several times per body.
+  root_of_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    root_of_[i] = islands_.root(std::int32_t(i));
   // Per island root: the level its loads need now, the level it had, and its mass (a contact in
   // an island at rest carries at most the island's weight; more is an impact, which needs no
   // stiffer spring to hold it up).
@@ -1145,7 +1149,7 @@ void Simulation::choose_substeps() {
   for (std::size_t i = 0; i < n; ++i) {
     if (model_->is_fixed(i))
       continue;
-    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    const std::size_t root = std::size_t(root_of_[i]);
     level_before_[root] = std::max(level_before_[root], state_.substep_level[i]);
     hold_before_[root] = std::max(hold_before_[root], state_.substep_hold[i]);
     if (masses_[i].inverse_mass > 0)
@@ -1172,7 +1176,7 @@ void Simulation::choose_substeps() {
       const bool a_static = model_->is_fixed(std::size_t(pc.body_a));
       const bool b_static = model_->is_fixed(std::size_t(pc.body_b));
       const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
-      const std::size_t root = std::size_t(islands_.root(moving));
+      const std::size_t root = std::size_t(root_of_[std::size_t(moving)]);
       ++contacts_wanting_[root * levels];
       const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
                                             : bounding_radii_[std::size_t(pc.body_a)],
@@ -1224,7 +1228,7 @@ void Simulation::choose_substeps() {
   // switch up pushes out the softer spring's sag, and that energy comes back as motion).
   constexpr std::uint8_t kSubstepHold = 30;
   for (std::size_t i = 0; i < n; ++i) {
-    if (islands_.root(std::int32_t(i)) != std::int32_t(i))
+    if (root_of_[i] != std::int32_t(i))
       continue;
     std::uint8_t& level = level_needed_[i];
     std::uint8_t& hold = hold_before_[i];
@@ -1239,7 +1243,7 @@ void Simulation::choose_substeps() {
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t root = std::size_t(islands_.root(std::int32_t(i)));
+    const std::size_t root = std::size_t(root_of_[i]);
     state_.substep_level[i] = model_->is_fixed(i) ? 0 : level_needed_[root];
     state_.substep_hold[i] = model_->is_fixed(i) ? 0 : hold_before_[root];
   }
@@ -1276,15 +1280,21 @@ void Simulation::choose_substeps() {
   // Visit the counts in ascending order so that group numbers do not depend on island order.
   for (int substeps = 2 * base; substeps <= cap; substeps *= 2) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (substeps_of_root_[i] == substeps && islands_.root(std::int32_t(i)) == std::int32_t(i)) {
+      if (substeps_of_root_[i] == substeps && root_of_[i] == std::int32_t(i)) {
         group_of(substeps);
         most = substeps;
         break;
       }
     }
   }
+  // Each root's group, looked up once per root (group_of searches the groups).
+  group_of_root_.assign(n, -1);
   const auto body_group = [&](std::int32_t body) {
-    return group_of(substeps_of_root_[std::size_t(islands_.root(body))]);
+    const std::size_t root = std::size_t(root_of_[std::size_t(body)]);
+    std::int32_t& group = group_of_root_[root];
+    if (group < 0)
+      group = group_of(substeps_of_root_[root]);
+    return group;
   };
   group_of_contact_.resize(contacts_.size());
   for (std::size_t c = 0; c < contacts_.size(); ++c) {

@@ -238,6 +238,8 @@ class Simulation {
   std::vector<std::int32_t> group_bodies_;
   std::vector<std::int32_t> group_of_contact_;
   std::vector<std::int32_t> substeps_of_root_;  // per island root: its substeps this step
+  std::vector<std::int32_t> root_of_;           // per body: its island's root this step
+  std::vector<std::int32_t> group_of_root_;     // per island root: its substep group, or -1
   std::vector<std::int32_t> group_fill_;        // scratch
   std::vector<std::uint8_t> level_needed_, level_before_, hold_before_;  // per island root
   std::vector<std::int32_t> contacts_wanting_;  // per island root and substep level
