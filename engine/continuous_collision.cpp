@@ -1,6 +1,7 @@
 #include "engine/continuous_collision.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/shapes/shape.hpp"
@@ -655,7 +656,12 @@ void ContinuousCollision::test_motions(const Scene& scene, const RigidMotion& ma
     // The distance at the start is the one just measured: where the pair cannot close from it
     // to the target within the step even at the fastest closing speed the advancement assumes,
     // the second search would end at its first query. Most touching pairs are resting ones.
-    if (greatest_closing_speed(ma, bounding_radius(a.shape), mb, bounding_radius(b.shape)) <
+    // The bodies' bounding radii, kept per body (radius_ holds 0 for an unbounded shape, whose
+    // bounding radius is infinite).
+    const auto radius_of = [&](std::int32_t i, const Shape& shape) {
+      return shape.is_bounded() ? radius_[std::size_t(i)] : std::numeric_limits<Real>::infinity();
+    };
+    if (greatest_closing_speed(ma, radius_of(ia, a.shape), mb, radius_of(ib, b.shape)) <
         r.distance - touching.target_distance)
       return;
     test.queries = 2;
