@@ -89,6 +89,42 @@ TEST(ContactLanes, EveryInstructionSetGivesTheSameBits) {
 // Random pair sets, some with a body in far more pairs than there are colours: every pair is
 // visited once, no two pairs of a colour share a moving slot (slot 0, static, may repeat), and
 // the overflow holds exactly the pairs that found no colour.
+// The pack computes the tangent masses and the normal rows' coupling terms in the lanes with the
+// sums associated as Eigen's 3x3 product and dot product associate them (times_whole and dot in
+// dynamics/contact_solver_lanes.inc), so that moving them out of the scalar build changed no bit.
+// Should Eigen's summation change (another version, a vectorisation switch, FMA in its packets),
+// this test says why the golden hashes moved.
+TEST(ContactLanes, EigenSumsThreeByThreeProductsAsThePackAssumes) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<Real> unit(-1, 1);
+  for (int k = 0; k < 20000; ++k) {
+    Mat3 m;
+    Vec3 v, w;
+    for (int e = 0; e < 9; ++e) {
+      const Real entry = unit(random) * Real(e + 1);
+      m(e / 3, e % 3) = entry;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const Real x = unit(random) * Real(10);
+      v[c] = x;
+      const Real y = unit(random);
+      w[c] = y;
+    }
+    const Vec3 product = m * v;
+    const Real p[3][3] = {{m(0, 0) * v[0], m(0, 1) * v[1], m(0, 2) * v[2]},
+                          {m(1, 0) * v[0], m(1, 1) * v[1], m(1, 2) * v[2]},
+                          {m(2, 0) * v[0], m(2, 1) * v[1], m(2, 2) * v[2]}};
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(product[0]),
+              std::bit_cast<std::uint64_t>((p[0][0] + p[0][1]) + p[0][2]));
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(product[1]),
+              std::bit_cast<std::uint64_t>((p[1][0] + p[1][1]) + p[1][2]));
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(product[2]),
+              std::bit_cast<std::uint64_t>(p[2][0] + (p[2][1] + p[2][2])));
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(v.dot(w)),
+              std::bit_cast<std::uint64_t>((v[0] * w[0] + v[1] * w[1]) + v[2] * w[2]));
+  }
+}
+
 TEST(ContactGraph, ColoursNeverShareAMovingBodyAndCoverEveryPairOnce) {
   std::mt19937 random(20261125);
   ContactGraph graph;
