@@ -161,10 +161,6 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
   m.curvature = sliding_curvature(pc.manifold, sa.velocity - sb.velocity);
   const Mat3& ia = inverse_inertia_world[std::size_t(a)];
   const Mat3& ib = inverse_inertia_world[std::size_t(b)];
-  m.inv_inertia_a = packed_symmetric(ia);
-  m.inv_inertia_b = packed_symmetric(ib);
-  m.inv_inertia_lower_a = {ia(1, 0), ia(2, 0), ia(2, 1)};
-  m.inv_inertia_lower_b = {ib(1, 0), ib(2, 0), ib(2, 1)};
   const Real inv_mass_sum = m.inv_mass_a + m.inv_mass_b;
   // The points in the order of their feature keys, not the narrow phase's: the rows of a face
   // contact are solved one by one where the block would pull (docs/architecture.md), and their
@@ -329,7 +325,8 @@ void ContactSolver::pack(std::span<const std::int32_t> group_of_contact,
   // Each bundle is filled from its own lanes' records.
   for_chunks(bundle_count_, kBundlesPerChunk, [&](std::int32_t begin, std::int32_t end) {
     kernels_->pack(records_.data(), lane_records_.data() + std::size_t(begin) * std::size_t(lanes),
-                   end - begin, bundles_.get() + std::size_t(begin) * kernels_->bundle_bytes);
+                   end - begin, inverse_inertia_world_.data(),
+                   bundles_.get() + std::size_t(begin) * kernels_->bundle_bytes);
   });
 }
 

@@ -185,12 +185,6 @@ class ContactSolver {
     Vec3 tangent1 = Vec3::UnitX();
     Vec3 tangent2 = Vec3::UnitY();
     Real inv_mass_a = 0, inv_mass_b = 0;
-    // Simulation inverse inertias at the start of the step: xx, xy, xz, yy, yz, zz.
-    std::array<Real, 6> inv_inertia_a{}, inv_inertia_b{};
-    // Their entries below the diagonal, yx, zx, zy: R I^-1 R^T is symmetric only to rounding, and
-    // the pack's rows multiply by the whole matrix, as build() did before the rows moved into
-    // the lanes, so that the results did not change.
-    std::array<Real, 3> inv_inertia_lower_a{}, inv_inertia_lower_b{};
     Real friction = 0, restitution = 0;
     // The separation's second derivative along the pair's sliding direction at the start of the
     // step [1/m]; 0 for a flat contact (the manifold's separation_curvature, "Curved contacts").

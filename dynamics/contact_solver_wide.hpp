@@ -13,9 +13,10 @@ struct WideKernels {
   int lanes;
   std::size_t bundle_bytes;
   std::size_t bundle_alignment;
-  // lane_records[b * lanes + l]: the record in lane l of bundle b, or -1 for an empty lane.
+  // lane_records[b * lanes + l]: the record in lane l of bundle b, or -1 for an empty lane;
+  // inverse_inertia_world[body]: each body's world inverse inertia at the start of the step.
   void (*pack)(const ContactSolver::ManifoldRecord* records, const std::int32_t* lane_records,
-               int bundle_count, std::byte* bundles);
+               int bundle_count, const Mat3* inverse_inertia_world, std::byte* bundles);
   void (*unpack)(const std::byte* bundles, const std::int32_t* lane_records, int bundle_count,
                  ContactSolver::ManifoldRecord* records);
   void (*warm_start)(const std::byte* bundles, int begin, int end,
