@@ -12,6 +12,7 @@
 
 #include "dynamics/parallel_runner.hpp"
 #include "engine/checked_draw.hpp"
+#include "engine/draw_storage.hpp"
 #include "engine/kinematic_target_check.hpp"
 #include "engine/model.hpp"
 #include "engine/number_text.hpp"
@@ -49,6 +50,7 @@ struct BatchWorld::Impl {
   std::uint64_t base_seed = 0;
   int first_world = 0;  // this batch's world 0 draws as that world of the whole batch
   std::vector<std::uint64_t> seeds, draws;
+  std::vector<DrawStorage> draw_storage;  // per world, when randomizing
   int bodies = 0;
   int threads = 1;
   std::unique_ptr<ParallelRunner> runner;
@@ -160,8 +162,10 @@ struct BatchWorld::Impl {
   }
 
   // The world of the scene's draw for `seed` (randomizing), or of the model itself, on one thread.
-  World make_world(std::uint64_t seed) const {
-    World world = randomizing ? World(compile_draw(model->described_scene(), seed)) : World(model);
+  World make_world(int w, std::uint64_t seed) {
+    World world = randomizing
+                      ? World(draw_storage[std::size_t(w)].draw(model->described_pointer(), seed))
+                      : World(model);
     world.set_threads(1);
     return world;
   }
@@ -172,11 +176,12 @@ struct BatchWorld::Impl {
   void renew(int w, std::uint64_t seed, std::uint64_t draw) {
     World& world = worlds[std::size_t(w)];
     if (randomizing) {
-      std::shared_ptr<const Model> drawn = compile_draw(model->described_scene(), seed);
+      std::shared_ptr<const Model> drawn =
+          draw_storage[std::size_t(w)].draw(model->described_pointer(), seed);
       if (world.simulation().can_reset_to(*drawn))
         world.reset(std::move(drawn));
       else
-        world = make_world(seed);
+        world = make_world(w, seed);
     } else {
       world.reset();
     }
@@ -224,9 +229,11 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   m.seeds.assign(std::size_t(num_worlds), 0);
   m.draws.assign(std::size_t(num_worlds), 0);
   m.worlds.reserve(std::size_t(num_worlds));
+  if (m.randomizing)
+    m.draw_storage.resize(std::size_t(num_worlds));
   for (int w = 0; w < num_worlds; ++w) {
     m.seeds[std::size_t(w)] = draw_seed(seed, first_world + w, 0);
-    m.worlds.push_back(m.make_world(m.seeds[std::size_t(w)]));
+    m.worlds.push_back(m.make_world(w, m.seeds[std::size_t(w)]));
   }
   const std::size_t rows = std::size_t(num_worlds) * std::size_t(m.bodies);
   m.observations.assign(rows * kObservationWidth, 0);

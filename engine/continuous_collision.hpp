@@ -144,6 +144,8 @@ class ContinuousCollision {
                               ContinuousCollisionCounts& counts);
 
   bool enabled_ = false;
+  // Whether the last run finished (a run that threw may leave its scratch tables dirty).
+  bool settled_ = false;
   PairSearch pair_search_ = PairSearch::automatic;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;

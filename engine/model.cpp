@@ -31,7 +31,20 @@ std::shared_ptr<const Model> compile(std::shared_ptr<const Scene> scene) {
 
 std::shared_ptr<const Model> Model::build(std::shared_ptr<const Scene> scene) {
   auto model = std::make_shared<Model>();
-  model->described_ = scene;
+  model->assign(std::move(scene));
+  return model;
+}
+
+void Model::release_scenes() {
+  scene_.reset();
+  described_.reset();
+  drawn_from_.reset();
+}
+
+void Model::assign(std::shared_ptr<const Scene> scene, std::shared_ptr<const Scene> drawn_from) {
+  removed_.clear();
+  drawn_from_ = std::move(drawn_from);
+  described_ = scene;
   // Training geometry: each body with a training shape collides with it (its mass properties
   // stay those of its detailed shape, already in the description).
   if (scene->world.geometry == Geometry::train &&
@@ -48,9 +61,8 @@ std::shared_ptr<const Model> Model::build(std::shared_ptr<const Scene> scene) {
     with_default->materials.push_back(Material{"default"});
     scene = std::move(with_default);
   }
-  model->scene_ = std::move(scene);
-  model->derive();
-  return model;
+  scene_ = std::move(scene);
+  derive();
 }
 
 void Model::derive() {
@@ -105,6 +117,10 @@ void Model::derive() {
       restitution_[a * material_count_ + b] = e;
     }
   }
+}
+
+bool Model::has_removed() const {
+  return std::find(removed_.begin(), removed_.end(), std::uint8_t(1)) != removed_.end();
 }
 
 std::size_t Model::removed_count() const {

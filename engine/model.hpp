@@ -21,12 +21,23 @@ class Model {
  public:
   // The model of a scene that passed check_scene (compile() checks; this does not).
   static std::shared_ptr<const Model> build(std::shared_ptr<const Scene> scene);
+  // build()'s work done over this model, keeping its tables' storage (a model that nothing else
+  // holds, rebuilt for a new draw of its scene: engine/draw_storage.hpp).
+  // `drawn_from`: the checked scene `scene` is a randomized draw of, if it is one.
+  void assign(std::shared_ptr<const Scene> scene, std::shared_ptr<const Scene> drawn_from = {});
+  // Lets go of the scenes (so that their holder may write over them before the next assign).
+  void release_scenes();
 
   const Scene& scene() const { return *scene_; }
   // The scene as described, before training geometry replaced any shape: what a randomized
   // world is drawn from (tumble/randomization.hpp), so that both geometries draw alike.
   const Scene& described_scene() const { return *described_; }
   const std::shared_ptr<const Scene>& scene_pointer() const { return scene_; }
+  const std::shared_ptr<const Scene>& described_pointer() const { return described_; }
+  // The scene this model's description is a randomized draw of (DrawStorage's models), or null.
+  // Two draws of one scene have the same bodies, each static, kinematic or moving alike, and the
+  // same static bodies: draws leave static bodies as they are.
+  const Scene* drawn_from() const { return drawn_from_.get(); }
   std::size_t body_count() const { return masses_.size(); }
 
   const std::vector<BodyMass>& masses() const { return masses_; }
@@ -36,6 +47,8 @@ class Model {
   // flat-faced shapes recycle their manifolds.
   const std::vector<std::uint8_t>& flat_shape() const { return flat_shape_; }
   Motion motion(std::size_t body) const { return motion_[body]; }
+  const std::vector<Motion>& motions() const { return motion_; }
+  bool has_removed() const;
   // Static, kinematic or removed: infinite mass, in no island, never integrated by the solver.
   bool is_fixed(std::size_t body) const { return motion_[body] != Motion::dynamic; }
   bool is_kinematic(std::size_t body) const { return motion_[body] == Motion::kinematic; }
@@ -65,6 +78,7 @@ class Model {
 
   std::shared_ptr<const Scene> scene_;
   std::shared_ptr<const Scene> described_;
+  std::shared_ptr<const Scene> drawn_from_;
   std::vector<BodyMass> masses_;
   std::vector<Real> bounding_radii_;
   std::vector<std::uint8_t> flat_shape_;

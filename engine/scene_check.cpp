@@ -283,6 +283,16 @@ class Checker {
                  number_text((*r.gravity_high)[k]) + " on axis " + std::to_string(k));
   }
 
+  void drawn() const {
+    world(scene_.world);
+    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+      material(scene_.materials[m], Field(Field("materials"), m));
+    for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
+      if (!scene_.bodies[i].is_static)
+        body(scene_.bodies[i], Field(Field("bodies"), i), scene_.materials.size());
+    }
+  }
+
   void scene() const {
     world(scene_.world);
     randomization(scene_.randomize);
@@ -350,6 +360,10 @@ std::string impossible_moment(Real mass, Real largest_moment, Real radius) {
 
 void check_scene(const Scene& scene) {
   Checker(scene).scene();
+}
+
+void check_drawn_scene(const Scene& draw) {
+  Checker(draw).drawn();
 }
 
 void check_body(const Scene& scene, const BodyDesc& body, std::size_t slot) {

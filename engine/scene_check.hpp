@@ -12,6 +12,11 @@ namespace tumble {
 // Throws SceneError naming the field "bodies[slot]...." as check_scene would.
 void check_body(const Scene& scene, const BodyDesc& body, std::size_t slot);
 
+// check_scene for a randomized draw of a scene that passed it (engine/checked_draw.hpp): only
+// what a draw can change (the world's settings, the materials, the bodies that are not static),
+// since the rest is the checked scene's. Throws as check_scene would.
+void check_drawn_scene(const Scene& draw);
+
 // Why a principal moment is impossible for a body of `mass` within a bounding radius `radius` of
 // its centre of mass (no particle is farther than R from an axis through the centre, so no
 // moment exceeds m R^2), or empty when it is possible. check_scene refuses such a body; the scene

@@ -152,6 +152,15 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
 }
 
 bool Simulation::can_reset_to(const Model& model) const {
+  if (model.drawn_from() != nullptr && model.drawn_from() == model_->drawn_from())
+    return true;
+  // The models' compact motion tables answer without reading the scenes (a reset in a large
+  // batch finds this world's scene out of the cache); a removed slot keeps its description's
+  // flags, which the motion table does not show.
+  if (model.motions() != model_->motions())
+    return false;
+  if (!model.has_removed() && !model_->has_removed())
+    return true;
   const Scene& next = model.scene();
   if (next.bodies.size() != scene_->bodies.size())
     return false;
@@ -167,6 +176,10 @@ bool Simulation::can_reset_to(const Model& model) const {
 void Simulation::reset(std::shared_ptr<const Model> model) {
   if (!model)
     throw Error("tumble::World::reset: the model is null");
+  // Another draw of the scene this world's model was drawn from has its bodies and its static
+  // bodies' descriptions (a batch's randomized reset): neither needs comparing, and the old
+  // scene, out of the cache in a large batch, is not read.
+  const bool redraw = model->drawn_from() != nullptr && model->drawn_from() == model_->drawn_from();
   if (!can_reset_to(*model))
     throw Error(
         "tumble::World::reset: the model's bodies are not this world's (the same count, "
@@ -177,7 +190,7 @@ void Simulation::reset(std::shared_ptr<const Model> model) {
   const Scene& next = model->scene();
   const BroadPhaseType type = choose_broad_phase(next.world.broadphase, next);
   bool statics_kept = type == broad_phase_type_;
-  for (std::size_t i = 0; statics_kept && i < next.bodies.size(); ++i) {
+  for (std::size_t i = 0; statics_kept && !redraw && i < next.bodies.size(); ++i) {
     if (!next.bodies[i].is_static)
       continue;
     const Aabb before = world_aabb(scene_->bodies[i].shape, pose_of(state_.bodies[i]));
