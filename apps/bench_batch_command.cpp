@@ -11,11 +11,14 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <string_view>
 #include <thread>
 
 #include "apps/atomic_file.hpp"
@@ -74,6 +77,21 @@ std::string machine_name() {
   }
   name << std::thread::hardware_concurrency() << " hardware threads";
   return name.str();
+}
+
+// Whether glibc's malloc backs the heap with transparent huge pages (its `glibc.malloc.hugetlb`
+// tunable, read at the process's start): a large batch's worlds then miss the TLB far less
+// (docs/rl.md, "Memory"), so the figures depend on it.
+std::string malloc_huge_pages() {
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  const std::string_view text = tunables == nullptr ? std::string_view() : tunables;
+  constexpr std::string_view key = "glibc.malloc.hugetlb=";
+  const std::size_t at = text.find(key);
+  const char value =
+      at == std::string_view::npos || at + key.size() >= text.size() ? '0' : text[at + key.size()];
+  if (value == '1' || value == '2')
+    return std::string("on (GLIBC_TUNABLES glibc.malloc.hugetlb=") + value + ")";
+  return "off (GLIBC_TUNABLES=glibc.malloc.hugetlb=1 turns them on: docs/rl.md)";
 }
 
 // 1234567 -> "1,234,567" (built forwards: GCC 12 warns falsely on insert into a short string).
@@ -215,8 +233,8 @@ int bench_batch_command(const BenchBatchOptions& options) {
   std::cout << "tumble bench-batch " << options.scene.string() << " (" << bodies << " bodies), "
             << options.steps << " steps from the start, dt " << fixed_digits(scene->world.dt, 6)
             << " s, " << options.repetitions << " repetitions\nmachine: " << machine_name()
-            << "\npeers: MuJoCo " << mujoco_version()
-            << (bullet_available() ? ", Bullet 3.24" : ", no Bullet") << "\n\n";
+            << "\nmalloc huge pages: " << malloc_huge_pages() << "\npeers: MuJoCo "
+            << mujoco_version() << (bullet_available() ? ", Bullet 3.24" : ", no Bullet") << "\n\n";
 
   std::vector<Row> rows;
   std::map<std::pair<int, int>, Runs> tumble_runs;

@@ -1,6 +1,9 @@
 """Steps tumble.envs.PushBoxEnv with random actions and prints the env-steps per second.
 
     PYTHONPATH=build/release/python python3 examples/python/rollout.py --envs 256 --steps 200
+
+A large batch runs 5-10% faster with malloc on huge pages: start Python with
+GLIBC_TUNABLES=glibc.malloc.hugetlb=1 (docs/rl.md, "Memory").
 """
 import argparse
 import time

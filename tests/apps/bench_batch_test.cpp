@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "apps/bullet_bridge.hpp"
 #include "apps/mujoco_bridge.hpp"
@@ -91,6 +93,30 @@ TEST(BenchBatch, RunsEveryEngineAndWritesItsCsv) {
   EXPECT_EQ(mujoco_rows, app::mujoco_available() ? 4 : 0);
   EXPECT_EQ(bullet_rows, app::bullet_available() ? 4 : 0);
   std::filesystem::remove(csv);
+}
+
+// The figures of a large batch depend on whether malloc backs the heap with huge pages (a glibc
+// tunable read at the start of the process): the output says which.
+TEST(BenchBatch, SaysWhetherMallocUsesHugePages) {
+  const char* before = std::getenv("GLIBC_TUNABLES");
+  const std::string kept = before == nullptr ? "" : before;
+  const auto huge_pages_line = [] {
+    const CommandOutput run =
+        run_tumble_command("bench-batch " + kBoxes.string() +
+                           " --worlds 1 --threads 1 --steps 1 --repetitions 1 --peers none");
+    EXPECT_EQ(run.exit_code, 0) << run.text;
+    const std::size_t at = run.text.find("malloc huge pages: ");
+    return at == std::string::npos ? std::string()
+                                   : run.text.substr(at, run.text.find('\n', at) - at);
+  };
+  ::setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1);
+  EXPECT_EQ(huge_pages_line().rfind("malloc huge pages: on", 0), 0u);
+  ::setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=0", 1);
+  EXPECT_EQ(huge_pages_line().rfind("malloc huge pages: off", 0), 0u);
+  ::unsetenv("GLIBC_TUNABLES");
+  EXPECT_EQ(huge_pages_line().rfind("malloc huge pages: off", 0), 0u);
+  if (before != nullptr)
+    ::setenv("GLIBC_TUNABLES", kept.c_str(), 1);
 }
 
 }  // namespace
