@@ -207,5 +207,25 @@ TEST(DrawStorage, AResetWorldWhoseStaticBodyWasMovedIsTheLoneWorldOfItsDraw) {
   }
 }
 
+// A world whose bodies the user changed is no longer a draw of the batch's scene: its reset
+// compares the bodies, finds them changed, and builds the world anew from its draw.
+TEST(DrawStorage, AResetWorldWhoseBodiesWereChangedIsTheLoneWorldOfItsDraw) {
+  const std::shared_ptr<const Scene> scene = varied_scene(Geometry::deploy);
+  BatchWorld batch(scene, 3, 1, 23);
+  batch.step(5);
+  batch.world(0).add_body(box_at("extra", Vec3(1, 1, 2), 0.2));
+  batch.world(2).remove_body(batch.world(2).body("capsule"));
+  batch.step(5);
+  const std::vector<int> all{0, 1, 2};
+  batch.reset(all);
+  batch.step(30);
+  for (int w = 0; w < 3; ++w) {
+    World lone(std::make_shared<Scene>(randomized(*scene, batch.seed(w))));
+    lone.step(30);
+    EXPECT_EQ(lone.state_hash(), batch.state_hash(w)) << "world " << w;
+    EXPECT_EQ(batch.world(w).bodies().size(), scene->bodies.size()) << "world " << w;
+  }
+}
+
 }  // namespace
 }  // namespace tumble
