@@ -29,13 +29,9 @@ std::shared_ptr<const Scene> varied_scene(Geometry geometry) {
       {-0.5, -0.4, -0.3}, {0.5, -0.4, -0.3}, {0, 0.5, -0.3}, {0, 0, 0.6}, {0.2, 0.1, -0.3}};
   BodyDesc hull = dynamic_body("hull", hull_from_points(points), 700);
   hull.position = Vec3(2, 0, 1);
-  std::vector<CompoundPart> parts{{Shape::box(Vec3(0.3, 0.2, 0.2)), Transform{}},
-                                  {Shape::sphere(0.25), Transform{}}};
-  parts[0].pose.translation = Vec3(-0.4, 0, 0);
-  parts[1].pose.translation = Vec3(0.5, 0, 0);
-  Vec3 centre = Vec3::Zero();
-  BodyDesc compound = dynamic_body("compound", compound_from_parts(parts, &centre), 900);
-  compound.position = Vec3(-2, 0, 1) + centre;
+  BodyDesc compound = testing::compound_at(
+      "compound", testing::box_and_sphere(Vec3(0.3, 0.2, 0.2), -0.4, 0.25, 0.5), 900,
+      Vec3(-2, 0, 1));
   compound.material = 1;
   BodyDesc capsule = dynamic_body("capsule", Shape::capsule(0.2, 0.4), 600);
   capsule.position = Vec3(0, 2, 0.5);
@@ -122,6 +118,21 @@ std::uint64_t hash_after_steps(std::shared_ptr<const Model> model, int steps) {
   return world.state_hash();
 }
 
+// Resets every world of `batch`, steps 30 times, and compares each with the lone world of its
+// draw.
+void expect_reset_worlds_are_lone_draws(BatchWorld& batch, const Scene& scene) {
+  std::vector<int> all(std::size_t(batch.size()));
+  for (int w = 0; w < batch.size(); ++w)
+    all[std::size_t(w)] = w;
+  batch.reset(all);
+  batch.step(30);
+  for (int w = 0; w < batch.size(); ++w) {
+    World lone(std::make_shared<Scene>(randomized(scene, batch.seed(w))));
+    lone.step(30);
+    EXPECT_EQ(lone.state_hash(), batch.state_hash(w)) << "world " << w;
+  }
+}
+
 // Seeds drawn from a small set, so that a seed is often drawn over another's draw and over its
 // own; every tenth draw is also stepped against the fresh draw's world.
 TEST(DrawStorage, ADrawWrittenOverEarlierOnesIsTheFreshDrawOfItsSeed) {
@@ -163,17 +174,9 @@ TEST(DrawStorage, AFailedDrawLeavesTheLastModelAndTheNextDrawIsFresh) {
   b.inertia *= mass / b.mass;
   b.mass = mass;
   const std::shared_ptr<const Scene> scene = heavy;
-  const auto passes = [&](std::uint64_t seed) {
-    try {
-      randomized(*scene, seed);
-      return true;
-    } catch (const Error&) {
-      return false;
-    }
-  };
   std::vector<std::uint64_t> failing, passing;
   for (std::uint64_t seed = 0; failing.size() < 20 || passing.size() < 20; ++seed)
-    (passes(seed) ? passing : failing).push_back(seed);
+    (testing::draw_passes(*scene, seed) ? passing : failing).push_back(seed);
   DrawStorage storage;
   for (std::size_t k = 0; k < 20; ++k) {
     const std::shared_ptr<const Model> last = storage.draw(scene, passing[k]);
@@ -196,14 +199,7 @@ TEST(DrawStorage, AResetWorldWhoseStaticBodyWasMovedIsTheLoneWorldOfItsDraw) {
     World& world = batch.world(1);
     world.set_pose(world.body("obstacle"), Vec3(0, 0, 1.2), Quat::Identity());
     batch.step(10);
-    const std::vector<int> all{0, 1, 2};
-    batch.reset(all);
-    batch.step(30);
-    for (int w = 0; w < 3; ++w) {
-      World lone(std::make_shared<Scene>(randomized(*scene, batch.seed(w))));
-      lone.step(30);
-      EXPECT_EQ(lone.state_hash(), batch.state_hash(w)) << "world " << w;
-    }
+    expect_reset_worlds_are_lone_draws(batch, *scene);
   }
 }
 
@@ -216,15 +212,9 @@ TEST(DrawStorage, AResetWorldWhoseBodiesWereChangedIsTheLoneWorldOfItsDraw) {
   batch.world(0).add_body(box_at("extra", Vec3(1, 1, 2), 0.2));
   batch.world(2).remove_body(batch.world(2).body("capsule"));
   batch.step(5);
-  const std::vector<int> all{0, 1, 2};
-  batch.reset(all);
-  batch.step(30);
-  for (int w = 0; w < 3; ++w) {
-    World lone(std::make_shared<Scene>(randomized(*scene, batch.seed(w))));
-    lone.step(30);
-    EXPECT_EQ(lone.state_hash(), batch.state_hash(w)) << "world " << w;
+  expect_reset_worlds_are_lone_draws(batch, *scene);
+  for (int w = 0; w < batch.size(); ++w)
     EXPECT_EQ(batch.world(w).bodies().size(), scene->bodies.size()) << "world " << w;
-  }
 }
 
 }  // namespace
