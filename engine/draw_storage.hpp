@@ -1,6 +1,6 @@
-// Storage for a world's randomized draws (docs/rl.md, "Reset"). Each reset of a randomized world
+// Storage for a world's randomized draws (docs/rl.md, "Seeds"). Each reset of a randomized world
 // draws a new scene and compiles its model; building both afresh costs a scene copy, a dozen
-// allocations and as many frees, a third of the reset. A world's draws have the same shape every
+// allocations and as many frees, a fifth of the reset in a large batch. A world's draws have the same shape every
 // time, so two scene-and-model pairs suffice: the one the world runs, and a spare that the next
 // draw is written over, each vector and string keeping its storage, and only the drawn fields
 // written when the pair last held a draw of the same scene.

@@ -126,8 +126,8 @@ void randomized_from_checked_into(const Scene& scene, std::uint64_t seed, Scene&
     out.randomize = Randomization{};
   } else {
     // Every field the draws below write, back to the scene's value; the rest of `out` is the
-    // scene's already. (A field drawn below must be listed here: RandomizationTest's redraw
-    // cases compare draws written over earlier ones with fresh ones.)
+    // scene's already. (A field drawn below must be listed here: DrawStorage's tests,
+    // tests/api/draw_storage_test.cpp, compare draws written over earlier ones with fresh ones.)
     out.world.gravity = scene.world.gravity;
     out.materials = scene.materials;
     for (std::size_t i = 0; i < out.bodies.size(); ++i) {
