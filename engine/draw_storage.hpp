@@ -1,9 +1,9 @@
 // Storage for a world's randomized draws (docs/rl.md, "Seeds"). Each reset of a randomized world
 // draws a new scene and compiles its model; building both afresh costs a scene copy, a dozen
-// allocations and as many frees, a fifth of the reset in a large batch. A world's draws have the same shape every
-// time, so two scene-and-model pairs suffice: the one the world runs, and a spare that the next
-// draw is written over, each vector and string keeping its storage, and only the drawn fields
-// written when the pair last held a draw of the same scene.
+// allocations and as many frees, a fifth of the reset in a large batch. A world's draws have the
+// same shape every time, so two scene-and-model pairs suffice: the one the world runs, and a spare
+// that the next draw is written over, each vector and string keeping its storage, and only the
+// drawn fields written when the pair last held a draw of the same scene.
 //
 // A pair is written over only when this storage alone holds it: a model or scene still held
 // elsewhere (a user who kept a world's model) is left alone, and the draw takes new storage.
