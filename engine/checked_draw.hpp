@@ -4,9 +4,7 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 
-#include "tumble/model.hpp"
 #include "tumble/scene.hpp"
 
 namespace tumble {
@@ -20,8 +18,5 @@ Scene randomized_from_checked(const Scene& checked, std::uint64_t seed);
 // the fields a draw writes are written, each from `checked`'s own value.
 void randomized_from_checked_into(const Scene& checked, std::uint64_t seed, Scene& out,
                                   bool out_drawn_from_checked = false);
-
-// The model of that draw, built without checking it a third time.
-std::shared_ptr<const Model> compile_draw(const Scene& checked, std::uint64_t seed);
 
 }  // namespace tumble

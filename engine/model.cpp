@@ -119,10 +119,6 @@ void Model::derive() {
   }
 }
 
-bool Model::has_removed() const {
-  return std::find(removed_.begin(), removed_.end(), std::uint8_t(1)) != removed_.end();
-}
-
 std::size_t Model::removed_count() const {
   std::size_t count = 0;
   for (const Motion m : motion_)

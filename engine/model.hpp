@@ -34,10 +34,12 @@ class Model {
   const Scene& described_scene() const { return *described_; }
   const std::shared_ptr<const Scene>& scene_pointer() const { return scene_; }
   const std::shared_ptr<const Scene>& described_pointer() const { return described_; }
-  // The scene this model's description is a randomized draw of (DrawStorage's models), or null.
-  // Two draws of one scene have the same bodies, each static, kinematic or moving alike, and the
-  // same static bodies: draws leave static bodies as they are.
-  const Scene* drawn_from() const { return drawn_from_.get(); }
+  // Whether both models are randomized draws (DrawStorage's models) of one scene. Two such draws
+  // have the same bodies, each static, kinematic or moving alike, and the same static bodies:
+  // draws leave static bodies as they are.
+  bool drawn_from_same_scene(const Model& other) const {
+    return drawn_from_ != nullptr && drawn_from_ == other.drawn_from_;
+  }
   std::size_t body_count() const { return masses_.size(); }
 
   const std::vector<BodyMass>& masses() const { return masses_; }
@@ -48,7 +50,6 @@ class Model {
   const std::vector<std::uint8_t>& flat_shape() const { return flat_shape_; }
   Motion motion(std::size_t body) const { return motion_[body]; }
   const std::vector<Motion>& motions() const { return motion_; }
-  bool has_removed() const;
   // Static, kinematic or removed: infinite mass, in no island, never integrated by the solver.
   bool is_fixed(std::size_t body) const { return motion_[body] != Motion::dynamic; }
   bool is_kinematic(std::size_t body) const { return motion_[body] == Motion::kinematic; }

@@ -14,7 +14,6 @@
 #include "collision/shapes/convex_hull.hpp"
 #include "collision/shapes/shape.hpp"
 #include "engine/checked_draw.hpp"
-#include "engine/model.hpp"
 #include "engine/random_stream.hpp"
 #include "engine/scene_check.hpp"
 #include "tumble/model.hpp"
@@ -106,10 +105,6 @@ Shape scaled(const Shape& shape, RandomStream& s, Real sigma, Vec3& offset, bool
 Scene randomized(const Scene& scene, std::uint64_t seed) {
   check_scene(scene);
   return randomized_from_checked(scene, seed);
-}
-
-std::shared_ptr<const Model> compile_draw(const Scene& checked, std::uint64_t seed) {
-  return Model::build(std::make_shared<const Scene>(randomized_from_checked(checked, seed)));
 }
 
 Scene randomized_from_checked(const Scene& scene, std::uint64_t seed) {

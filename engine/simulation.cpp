@@ -152,14 +152,14 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
 }
 
 bool Simulation::can_reset_to(const Model& model) const {
-  if (model.drawn_from() != nullptr && model.drawn_from() == model_->drawn_from())
+  if (model.drawn_from_same_scene(*model_))
     return true;
   // The models' compact motion tables answer without reading the scenes (a reset in a large
   // batch finds this world's scene out of the cache); a removed slot keeps its description's
-  // flags, which the motion table does not show.
+  // flags, which the motion table does not show (equal tables: both have removed slots or neither).
   if (model.motions() != model_->motions())
     return false;
-  if (!model.has_removed() && !model_->has_removed())
+  if (model.removed_count() == 0)
     return true;
   const Scene& next = model.scene();
   if (next.bodies.size() != scene_->bodies.size())
@@ -179,7 +179,7 @@ void Simulation::reset(std::shared_ptr<const Model> model) {
   // Another draw of the scene this world's model was drawn from has its bodies and its static
   // bodies' descriptions (a batch's randomized reset): neither needs comparing, and the old
   // scene, out of the cache in a large batch, is not read.
-  const bool redraw = model->drawn_from() != nullptr && model->drawn_from() == model_->drawn_from();
+  const bool redraw = model->drawn_from_same_scene(*model_);
   if (!can_reset_to(*model))
     throw Error(
         "tumble::World::reset: the model's bodies are not this world's (the same count, "
