@@ -136,10 +136,12 @@ Runs run_tumble(const std::shared_ptr<const Scene>& scene, int worlds, int threa
   runs.contacts = contacts / worlds;
   const WorldMemory memory = batch.world(0).simulation().memory();
   const std::size_t bodies = std::size_t(batch.body_count());
-  // The world, and its rows of the batch's arrays (observations, forces, torques, targets and
-  // their flags, contact forces and counts).
+  // The world, its rows of the batch's arrays (observations, forces, torques, targets and
+  // their flags, contact forces and counts) and its share of the scratch arrays the batch lends
+  // the steps (one set per thread).
   bytes_per_world = memory.body_bytes + memory.contact_bytes +
-                    bodies * (sizeof(Real) * (13 + 3 + 3 + 7 + 3) + 1 + sizeof(std::int32_t));
+                    bodies * (sizeof(Real) * (13 + 3 + 3 + 7 + 3) + 1 + sizeof(std::int32_t)) +
+                    batch.scratch_bytes() / std::size_t(worlds);
   return runs;
 }
 

@@ -165,7 +165,8 @@ int bench_command(const BenchOptions& options) {
         const double bytes_per_body = per(static_cast<double>(runs.memory.body_bytes),
                                           static_cast<double>(scene->bodies.size()));
         const double bytes_per_point =
-            per(static_cast<double>(runs.memory.contact_bytes), points_per_step);
+            per(static_cast<double>(runs.memory.contact_bytes + runs.memory.scratch_bytes),
+                points_per_step);
         std::cout << "  tumble, " << runs.threads << (runs.threads == 1 ? " thread" : " threads")
                   << ": step time  min " << ms(t.min) << "  median " << ms(t.median) << "  max "
                   << ms(t.max) << " ms";

@@ -5,6 +5,7 @@
 #include "tumble/batch_world.hpp"
 
 #include <limits>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
@@ -58,6 +59,28 @@ struct BatchWorld::Impl {
   std::vector<std::uint8_t> target_set;
   std::vector<std::int32_t> contact_counts;
   std::vector<std::uint8_t> listed;  // reset_worlds' scratch: how often each world is listed
+  // The scratch arrays the worlds' steps borrow (engine/step_workspace.hpp): one per step running
+  // at once, so that the arrays stay in the cache of the thread that uses them, and a world
+  // holds only its state. Which one a world gets does not change its results.
+  std::vector<std::unique_ptr<StepWorkspace>> scratch;
+  std::vector<StepWorkspace*> free_scratch;
+  std::mutex scratch_mutex;
+
+  StepWorkspace& take_scratch() {
+    const std::lock_guard<std::mutex> lock(scratch_mutex);
+    if (free_scratch.empty()) {
+      scratch.push_back(std::make_unique<StepWorkspace>());
+      return *scratch.back();
+    }
+    StepWorkspace* s = free_scratch.back();
+    free_scratch.pop_back();
+    return *s;
+  }
+
+  void give_scratch(StepWorkspace& s) {
+    const std::lock_guard<std::mutex> lock(scratch_mutex);
+    free_scratch.push_back(&s);
+  }
 
   Real* row(std::vector<Real>& v, int world, int width) {
     return v.data() + std::size_t(world) * std::size_t(bodies) * std::size_t(width);
@@ -138,6 +161,11 @@ struct BatchWorld::Impl {
     const Real* t = row(torques, w, 3);
     const Real* x = row(targets, w, kTargetWidth);
     std::uint8_t* set = target_set.data() + std::size_t(w) * std::size_t(bodies);
+    struct Borrowed {
+      Impl& batch;
+      StepWorkspace& scratch;
+      ~Borrowed() { batch.give_scratch(scratch); }  // also when a step throws
+    } borrowed{*this, take_scratch()};
     for (int k = 0; k < n; ++k) {
       for (int b = 0; b < bodies; ++b) {
         const Vec3 force(f[3 * b], f[3 * b + 1], f[3 * b + 2]);
@@ -153,7 +181,7 @@ struct BatchWorld::Impl {
           set[b] = 0;
         }
       }
-      sim.step();
+      sim.step(borrowed.scratch);
     }
     observe(w);
     sim.contact_forces(std::span(row(contact_forces, w, 3), std::size_t(bodies) * 3),
@@ -260,6 +288,14 @@ int BatchWorld::body_count() const {
   return impl_->bodies;
 }
 
+std::size_t BatchWorld::scratch_bytes() const {
+  const std::lock_guard<std::mutex> lock(impl_->scratch_mutex);
+  std::size_t bytes = 0;
+  for (const std::unique_ptr<StepWorkspace>& s : impl_->scratch)
+    bytes += s->bytes_reserved();
+  return bytes;
+}
+
 int BatchWorld::threads() const {
   return impl_->threads;
 }
@@ -269,6 +305,7 @@ void BatchWorld::set_threads(int threads) {
     throw Error("BatchWorld::set_threads: " + std::to_string(threads) + " threads; at most 1024");
   impl_->threads = thread_count(threads);
   impl_->runner = std::make_unique<ParallelRunner>(impl_->threads);
+  impl_->free_scratch.reserve(std::size_t(impl_->threads));
 }
 
 std::span<const Real> BatchWorld::observations() const {

@@ -80,7 +80,7 @@ constexpr std::int32_t kPairsPerChunk = 32;
 constexpr std::int32_t kBoxPairsPerChunk = 128;
 constexpr std::int32_t kSortedPairsPerChunk = 256;  // recycling a pair: about 50 ns
 
-// How the narrow phase answers a candidate pair (Simulation::candidate_route_): the kind in the
+// How the narrow phase answers a candidate pair (StepWorkspace::candidate_route): the kind in the
 // low bits, and what the caches gave, for the counts.
 constexpr std::uint8_t kRouteDone = 0;  // recycled, kept apart by its cached axis, or ignored
 constexpr std::uint8_t kRouteBoxQuery = 1;
@@ -102,7 +102,6 @@ Simulation::Simulation(std::shared_ptr<const Scene> scene)
 
 Simulation::Simulation(std::shared_ptr<const Model> model)
     : runner_(std::make_unique<ParallelRunner>(model->scene().world.threads)) {
-  solver_.set_runner(runner_.get());
   // At most one group per doubling of the substeps (a count is a power of two times the base,
   // at most 1000): room for all of them now, so that a new group never allocates mid-run.
   constexpr std::size_t kMostGroups = 11;
@@ -222,7 +221,6 @@ void Simulation::choose_penalty_substeps() {
 
 void Simulation::set_threads(int threads) {
   runner_ = std::make_unique<ParallelRunner>(threads);
-  solver_.set_runner(runner_.get());
 }
 
 void Simulation::set_state(const State& state) {
@@ -512,6 +510,19 @@ void check_finite(const State& state, const Scene& scene, const std::vector<Tran
 }  // namespace
 
 void Simulation::step() {
+  // Made at the first step, so that a batch's worlds, which borrow their thread's, hold none.
+  if (!own_scratch_)
+    own_scratch_ = std::make_unique<StepWorkspace>();
+  step(*own_scratch_);
+}
+
+void Simulation::step(StepWorkspace& scratch) {
+  struct Lent {
+    StepWorkspace*& slot;
+    ~Lent() { slot = nullptr; }  // returned even when the step throws
+  } lent{scratch_};
+  scratch_ = &scratch;
+  scratch.solver.set_runner(runner_.get());
   const std::int64_t split_before = runner_->split_loops();
   runner_->run([this] { step_on_runner(); });
   last_step_.split_loops = runner_->split_loops() - split_before;
@@ -793,30 +804,30 @@ void Simulation::collide_candidate_pairs() {
   // What each candidate's manifold comes from: the kept manifold (its index in
   // state_.manifolds), or a fresh query (-1).
   const std::size_t n = candidate_pairs_.size();
-  candidate_manifolds_.resize(n);
-  candidate_kept_.assign(n, -1);
-  candidate_axis_.assign(n, kNoBoxAxis);
-  candidate_uses_gjk_.assign(n, 0);
-  candidate_is_hull_pair_.assign(n, 0);
-  if (candidate_hull_axis_.size() < n)
-    candidate_hull_axis_.resize(n);
-  if (candidate_gjk_.size() < n)
-    candidate_gjk_.resize(n);
-  box_queries_.clear();
-  box_candidates_.clear();
-  sphere_x_.clear();
-  sphere_y_.clear();
-  sphere_z_.clear();
-  sphere_radius_.clear();
-  sphere_pairs_.clear();
-  sphere_candidates_.clear();
-  other_candidates_.clear();
+  scratch_->candidate_manifolds.resize(n);
+  scratch_->candidate_kept.assign(n, -1);
+  scratch_->candidate_axis.assign(n, kNoBoxAxis);
+  scratch_->candidate_uses_gjk.assign(n, 0);
+  scratch_->candidate_is_hull_pair.assign(n, 0);
+  if (scratch_->candidate_hull_axis.size() < n)
+    scratch_->candidate_hull_axis.resize(n);
+  if (scratch_->candidate_gjk.size() < n)
+    scratch_->candidate_gjk.resize(n);
+  scratch_->box_queries.clear();
+  scratch_->box_candidates.clear();
+  scratch_->sphere_x.clear();
+  scratch_->sphere_y.clear();
+  scratch_->sphere_z.clear();
+  scratch_->sphere_radius.clear();
+  scratch_->sphere_pairs.clear();
+  scratch_->sphere_candidates.clear();
+  scratch_->other_candidates.clear();
   const std::vector<RecyclableManifold>& kept = state_.manifolds;
   static const Real recycle_half_sine = std::sin(Real(0.5) * kRecycleAngle);
   const std::vector<CachedBoxAxis>& axes = state_.box_axes;
   const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
   const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
-  candidate_route_.resize(n);
+  scratch_->candidate_route.resize(n);
   // First each candidate on its own, on the threads: recycled, kept apart by last step's box axis,
   // or which query answers it (with its cached axis or warm start). A chunk finds its first entry
   // of each kept list by bisection, then walks (the candidates and every kept list are sorted by
@@ -839,11 +850,11 @@ void Simulation::collide_candidate_pairs() {
         std::size_t hull_cursor = start_of(hull_kept);
         for (std::size_t i = std::size_t(begin); i < std::size_t(end); ++i) {
           const ProxyPair& pair = candidate_pairs_[i];
-          std::uint8_t& route = candidate_route_[i];
+          std::uint8_t& route = scratch_->candidate_route[i];
           // Two bodies of infinite mass (kinematic against static or kinematic) ignore each
           // other.
           if (model_->is_fixed(std::size_t(pair.a)) && model_->is_fixed(std::size_t(pair.b))) {
-            candidate_manifolds_[i].count = 0;
+            scratch_->candidate_manifolds[i].count = 0;
             route = kRouteDone;
             continue;
           }
@@ -852,8 +863,8 @@ void Simulation::collide_candidate_pairs() {
               manifold != nullptr &&
               recycle_within_half_sine(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
                                        kRecycleDistance * smaller_radius(pair), recycle_half_sine,
-                                       candidate_manifolds_[i])) {
-            candidate_kept_[i] = static_cast<std::int32_t>(manifold - kept.data());
+                                       scratch_->candidate_manifolds[i])) {
+            scratch_->candidate_kept[i] = static_cast<std::int32_t>(manifold - kept.data());
             route = kRouteDone;
             continue;
           }
@@ -867,8 +878,8 @@ void Simulation::collide_candidate_pairs() {
               if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
                                      bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
                                      margin_of(pair))) {
-                candidate_axis_[i] = axis;
-                candidate_manifolds_[i].count = 0;
+                scratch_->candidate_axis[i] = axis;
+                scratch_->candidate_manifolds[i].count = 0;
                 route = kRouteDone | kRouteAxisTried | kRouteAxisHit;
               }
             }
@@ -880,14 +891,14 @@ void Simulation::collide_candidate_pairs() {
                 bodies[pair.b].shape.type == ShapeType::hull) {
               // Last step's separating direction of a hull pair, tried in the query loop below.
               const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b);
-              candidate_is_hull_pair_[i] = 1;
-              candidate_hull_axis_[i] = cached != nullptr ? cached->axis : HullAxis{};
+              scratch_->candidate_is_hull_pair[i] = 1;
+              scratch_->candidate_hull_axis[i] = cached != nullptr ? cached->axis : HullAxis{};
               route |= cached != nullptr ? kRouteAxisTried : 0;
             } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
               // Last step's separating axis of a pair GJK answers, if it has one.
               const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b);
-              candidate_uses_gjk_[i] = 1;
-              candidate_gjk_[i] = cached != nullptr ? cached->cache : GjkCache{};
+              scratch_->candidate_uses_gjk[i] = 1;
+              scratch_->candidate_gjk[i] = cached != nullptr ? cached->cache : GjkCache{};
               route |= cached != nullptr ? kRouteWarm : 0;
             }
           }
@@ -896,7 +907,7 @@ void Simulation::collide_candidate_pairs() {
   // Then, in pair order, the queries' lists.
   std::int64_t axis_tries = 0, axis_hits = 0, gjk_warm = 0, hull_tries = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t route = candidate_route_[i];
+    const std::uint8_t route = scratch_->candidate_route[i];
     const ProxyPair& pair = candidate_pairs_[i];
     switch (route & kRouteKind) {
       case kRouteDone:
@@ -905,110 +916,113 @@ void Simulation::collide_candidate_pairs() {
         break;
       case kRouteBoxQuery:
         axis_tries += (route & kRouteAxisTried) != 0;
-        box_queries_.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                                bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
-                                margin_of(pair)});
-        box_candidates_.push_back(static_cast<std::int32_t>(i));
+        scratch_->box_queries.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
+                                         bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
+                                         margin_of(pair)});
+        scratch_->box_candidates.push_back(static_cast<std::int32_t>(i));
         break;
       case kRouteSphere: {
         for (const std::int32_t body : {pair.a, pair.b}) {
           const Vec3& c = shape_poses_[std::size_t(body)].translation;
-          sphere_x_.push_back(c.x());
-          sphere_y_.push_back(c.y());
-          sphere_z_.push_back(c.z());
-          sphere_radius_.push_back(bodies[std::size_t(body)].shape.radius);
+          scratch_->sphere_x.push_back(c.x());
+          scratch_->sphere_y.push_back(c.y());
+          scratch_->sphere_z.push_back(c.z());
+          scratch_->sphere_radius.push_back(bodies[std::size_t(body)].shape.radius);
         }
-        const auto first = static_cast<std::int32_t>(sphere_candidates_.size() * 2);
-        sphere_pairs_.push_back({first, first + 1});
-        sphere_candidates_.push_back(static_cast<std::int32_t>(i));
+        const auto first = static_cast<std::int32_t>(scratch_->sphere_candidates.size() * 2);
+        scratch_->sphere_pairs.push_back({first, first + 1});
+        scratch_->sphere_candidates.push_back(static_cast<std::int32_t>(i));
         break;
       }
       default:
         hull_tries += (route & kRouteAxisTried) != 0;
         gjk_warm += (route & kRouteWarm) != 0;
-        other_candidates_.push_back(static_cast<std::int32_t>(i));
+        scratch_->other_candidates.push_back(static_cast<std::int32_t>(i));
         break;
     }
   }
   const std::uint64_t query_start = read_ticks();
-  hull_hits_.assign(other_candidates_.size(), 0);
-  if (box_manifolds_.size() < box_queries_.size())
-    box_manifolds_.resize(box_queries_.size());
-  box_axes_found_.resize(box_queries_.size());
+  scratch_->hull_hits.assign(scratch_->other_candidates.size(), 0);
+  if (scratch_->box_manifolds.size() < scratch_->box_queries.size())
+    scratch_->box_manifolds.resize(scratch_->box_queries.size());
+  scratch_->box_axes_found.resize(scratch_->box_queries.size());
   // Each query's answer is its own (collide_box_pairs answers a pair as collide() does, in any
   // batch), so the batch splits over the threads.
   runner_->for_chunks(
-      static_cast<std::int32_t>(box_queries_.size()), kBoxPairsPerChunk,
+      static_cast<std::int32_t>(scratch_->box_queries.size()), kBoxPairsPerChunk,
       [&](std::int32_t begin, std::int32_t end) {
         const auto count = std::size_t(end - begin);
-        collide_box_pairs(std::span(box_queries_).subspan(std::size_t(begin), count),
-                          std::span(box_manifolds_).subspan(std::size_t(begin), count));
+        collide_box_pairs(std::span(scratch_->box_queries).subspan(std::size_t(begin), count),
+                          std::span(scratch_->box_manifolds).subspan(std::size_t(begin), count));
         // The pairs found apart keep the axis that separates them most.
         for (std::size_t k = std::size_t(begin); k < std::size_t(end); ++k) {
-          const BoxPairQuery& q = box_queries_[k];
-          box_axes_found_[k] =
-              box_manifolds_[k].count == 0
+          const BoxPairQuery& q = scratch_->box_queries[k];
+          scratch_->box_axes_found[k] =
+              scratch_->box_manifolds[k].count == 0
                   ? best_separating_box_axis(q.half_a, q.pose_a, q.half_b, q.pose_b, q.margin)
                   : kNoBoxAxis;
         }
       });
   runner_->for_chunks(
-      static_cast<std::int32_t>(other_candidates_.size()), kPairsPerChunk,
+      static_cast<std::int32_t>(scratch_->other_candidates.size()), kPairsPerChunk,
       [&](std::int32_t begin, std::int32_t end) {
         for (std::int32_t k = begin; k < end; ++k) {
-          const std::size_t i = std::size_t(other_candidates_[std::size_t(k)]);
+          const std::size_t i = std::size_t(scratch_->other_candidates[std::size_t(k)]);
           const ProxyPair& pair = candidate_pairs_[i];
-          if (candidate_is_hull_pair_[i] != 0) {
+          if (scratch_->candidate_is_hull_pair[i] != 0) {
             // Apart along last step's direction: no contact, no query.
             // Otherwise the query, and a direction for next step if apart.
             const ConvexHull& hull_a = *bodies[pair.a].shape.hull;
             const ConvexHull& hull_b = *bodies[pair.b].shape.hull;
-            HullAxis& axis = candidate_hull_axis_[i];
+            HullAxis& axis = scratch_->candidate_hull_axis[i];
             if (hull_axis_separates(hull_a, shape_poses_[pair.a], hull_b, shape_poses_[pair.b],
                                     axis, margin_of(pair))) {
-              candidate_manifolds_[i] = Manifold{};
-              hull_hits_[std::size_t(k)] = 1;
+              scratch_->candidate_manifolds[i] = Manifold{};
+              scratch_->hull_hits[std::size_t(k)] = 1;
               continue;
             }
             collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
-            axis = candidate_manifolds_[i].count == 0
+                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
+            axis = scratch_->candidate_manifolds[i].count == 0
                        ? separating_hull_axis(hull_a, shape_poses_[pair.a], hull_b,
                                               shape_poses_[pair.b], margin_of(pair))
                        : HullAxis{};
-          } else if (candidate_uses_gjk_[i] != 0) {
+          } else if (scratch_->candidate_uses_gjk[i] != 0) {
             collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i],
-                    candidate_gjk_[i]);
+                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i],
+                    scratch_->candidate_gjk[i]);
           } else if (field_changes_[std::size_t(pair.a)] | field_changes_[std::size_t(pair.b)]) {
             Shape timed_a, timed_b;
             collide(shape_now(pair.a, timed_a), shape_poses_[pair.a], shape_now(pair.b, timed_b),
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
           } else {
             collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), candidate_manifolds_[i]);
+                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
           }
         }
       });
-  for (std::size_t k = 0; k < box_candidates_.size(); ++k) {
-    candidate_manifolds_[std::size_t(box_candidates_[k])] = box_manifolds_[k];
-    candidate_axis_[std::size_t(box_candidates_[k])] = box_axes_found_[k];
+  for (std::size_t k = 0; k < scratch_->box_candidates.size(); ++k) {
+    scratch_->candidate_manifolds[std::size_t(scratch_->box_candidates[k])] =
+        scratch_->box_manifolds[k];
+    scratch_->candidate_axis[std::size_t(scratch_->box_candidates[k])] =
+        scratch_->box_axes_found[k];
   }
   // Sphere-sphere pairs through the vectorised batch, which gives collide()'s bits; each pair
   // keeps its own margin.
-  if (!sphere_pairs_.empty()) {
-    const std::size_t m = sphere_pairs_.size();
-    sphere_out_.resize(7 * m);
-    const SphereContactArrays out{sphere_out_.data(),         sphere_out_.data() + m,
-                                  sphere_out_.data() + 2 * m, sphere_out_.data() + 3 * m,
-                                  sphere_out_.data() + 4 * m, sphere_out_.data() + 5 * m,
-                                  sphere_out_.data() + 6 * m};
-    collide_sphere_pairs_dense(
-        {sphere_x_.data(), sphere_y_.data(), sphere_z_.data(), sphere_radius_.data()},
-        sphere_pairs_, 0, out);
+  if (!scratch_->sphere_pairs.empty()) {
+    const std::size_t m = scratch_->sphere_pairs.size();
+    scratch_->sphere_out.resize(7 * m);
+    const SphereContactArrays out{
+        scratch_->sphere_out.data(),         scratch_->sphere_out.data() + m,
+        scratch_->sphere_out.data() + 2 * m, scratch_->sphere_out.data() + 3 * m,
+        scratch_->sphere_out.data() + 4 * m, scratch_->sphere_out.data() + 5 * m,
+        scratch_->sphere_out.data() + 6 * m};
+    collide_sphere_pairs_dense({scratch_->sphere_x.data(), scratch_->sphere_y.data(),
+                                scratch_->sphere_z.data(), scratch_->sphere_radius.data()},
+                               scratch_->sphere_pairs, 0, out);
     for (std::size_t k = 0; k < m; ++k) {
-      const std::size_t i = std::size_t(sphere_candidates_[k]);
-      Manifold& manifold = candidate_manifolds_[i];
+      const std::size_t i = std::size_t(scratch_->sphere_candidates[k]);
+      Manifold& manifold = scratch_->candidate_manifolds[i];
       manifold.count = 0;
       if (!(out.depth[k] >= -margin_of(candidate_pairs_[i])))
         continue;
@@ -1021,35 +1035,36 @@ void Simulation::collide_candidate_pairs() {
   const std::uint64_t query_end = read_ticks();
   ticks_.recycle += query_start - sort_start;
   ticks_.recompute += query_end - query_start;
-  next_manifolds_.clear();
-  next_box_axes_.clear();
-  next_gjk_caches_.clear();
-  next_hull_axes_.clear();
+  scratch_->next_manifolds.clear();
+  scratch_->next_box_axes.clear();
+  scratch_->next_gjk_caches.clear();
+  scratch_->next_hull_axes.clear();
   std::int64_t recycled = 0;
   std::int64_t sdf_refined = 0, sdf_refine_capped = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
-    if (candidate_axis_[i] != kNoBoxAxis)
-      next_box_axes_.push_back({pair.a, pair.b, candidate_axis_[i]});
-    if (candidate_uses_gjk_[i] != 0 && candidate_gjk_[i].valid)
-      next_gjk_caches_.push_back({pair.a, pair.b, candidate_gjk_[i]});
-    if (candidate_is_hull_pair_[i] != 0 && candidate_hull_axis_[i].direction_in_a.squaredNorm() > 0)
-      next_hull_axes_.push_back({pair.a, pair.b, candidate_hull_axis_[i]});
+    if (scratch_->candidate_axis[i] != kNoBoxAxis)
+      scratch_->next_box_axes.push_back({pair.a, pair.b, scratch_->candidate_axis[i]});
+    if (scratch_->candidate_uses_gjk[i] != 0 && scratch_->candidate_gjk[i].valid)
+      scratch_->next_gjk_caches.push_back({pair.a, pair.b, scratch_->candidate_gjk[i]});
+    if (scratch_->candidate_is_hull_pair[i] != 0 &&
+        scratch_->candidate_hull_axis[i].direction_in_a.squaredNorm() > 0)
+      scratch_->next_hull_axes.push_back({pair.a, pair.b, scratch_->candidate_hull_axis[i]});
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
-    Manifold& manifold = candidate_manifolds_[i];
-    if (candidate_kept_[i] >= 0) {
+    Manifold& manifold = scratch_->candidate_manifolds[i];
+    if (scratch_->candidate_kept[i] >= 0) {
       ++recycled;
-      next_manifolds_.push_back(kept[std::size_t(candidate_kept_[i])]);
+      scratch_->next_manifolds.push_back(kept[std::size_t(scratch_->candidate_kept[i])]);
     } else {
       if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
-        next_manifolds_.push_back(
+        scratch_->next_manifolds.push_back(
             make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
       }
     }
     if (manifold.count == 0)
       continue;
-    if (candidate_kept_[i] < 0 &&
+    if (scratch_->candidate_kept[i] < 0 &&
         (a.shape.type == ShapeType::sdf || b.shape.type == ShapeType::sdf)) {
       sdf_refined += manifold.refined;
       sdf_refine_capped += manifold.refine_capped;
@@ -1071,13 +1086,13 @@ void Simulation::collide_candidate_pairs() {
     penalty_springs_.push_back(
         PenaltyPair{std::min(ma.stiffness, mb.stiffness), std::max(ma.damping, mb.damping)});
   }
-  state_.manifolds.swap(next_manifolds_);
-  state_.box_axes.swap(next_box_axes_);
-  state_.gjk_caches.swap(next_gjk_caches_);
-  state_.hull_axes.swap(next_hull_axes_);
+  state_.manifolds.swap(scratch_->next_manifolds);
+  state_.box_axes.swap(scratch_->next_box_axes);
+  state_.gjk_caches.swap(scratch_->next_gjk_caches);
+  state_.hull_axes.swap(scratch_->next_hull_axes);
   std::int64_t hull_hits = 0;
-  for (std::size_t k = 0; k < other_candidates_.size(); ++k)
-    hull_hits += hull_hits_[k];
+  for (std::size_t k = 0; k < scratch_->other_candidates.size(); ++k)
+    hull_hits += scratch_->hull_hits[k];
   current_.axis_cache_tries += hull_tries;
   current_.axis_cache_hits += hull_hits;
   current_.gjk_warm_starts += gjk_warm;
@@ -1119,15 +1134,15 @@ void Simulation::prepare_contacts() {
   }
   {
     StageTimer timer(current_, ticks_, SolvePhase::prepare);
-    solver_.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
+    scratch_->solver.build(contacts_, state_.contacts, state_.bodies, masses_, w.dt, w.gravity);
   }
   {
     StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
     choose_substeps();
   }
   StageTimer timer(current_, ticks_, SolvePhase::prepare);
-  solver_.pack(group_of_contact_, group_settings_, model_->kinematic_flags());
-  current_.contact_points += solver_.point_count();
+  scratch_->solver.pack(group_of_contact_, group_settings_, model_->kinematic_flags());
+  current_.contact_points += scratch_->solver.point_count();
 }
 
 // Substeps per island (docs/architecture.md). A soft contact of angular frequency omega settles
@@ -1174,7 +1189,7 @@ void Simulation::choose_substeps() {
   const std::size_t levels = std::size_t(top_level) + 1;
   contacts_wanting_.assign(n * levels, 0);
   weighed_level_.assign(n, 0);
-  const std::span<const ContactLoad> load = solver_.contact_loads();
+  const std::span<const ContactLoad> load = scratch_->solver.contact_loads();
   if (!w.contact_hertz) {
     constexpr Real kPi = std::numbers::pi_v<Real>;
     const Real gravity = w.gravity.norm();
@@ -1354,19 +1369,19 @@ void Simulation::solve_contacts(int group) {
   }
   {
     StageTimer timer(current_, ticks_, SolvePhase::warm_start);
-    solver_.load_velocities(group, state_.bodies);
+    scratch_->solver.load_velocities(group, state_.bodies);
     // Impacts first, on the velocities the bodies arrive with: after the warm start they would
     // reflect the approach the cached impulses add, which the passes may take back but the
     // bounce keeps (a sphere squeezed between a box and a capsule left at 22 m/s from 16).
-    solver_.resolve_impacts(group);
-    solver_.warm_start(group);
+    scratch_->solver.resolve_impacts(group);
+    scratch_->solver.warm_start(group);
   }
   StageTimer timer(current_, ticks_, SolvePhase::soft_passes);
   for (int it = 0; it < w.iterations; ++it)
-    solver_.solve(group, /*use_bias=*/true);
-  solver_.store_velocities(group, state_.bodies);
+    scratch_->solver.solve(group, /*use_bias=*/true);
+  scratch_->solver.store_velocities(group, state_.bodies);
   current_.solver_iterations += w.iterations;
-  current_.point_passes += std::int64_t(w.iterations) * solver_.group_point_count(group);
+  current_.point_passes += std::int64_t(w.iterations) * scratch_->solver.group_point_count(group);
 }
 
 // After the bodies moved: the separations, the relax passes that take out the push-out speed,
@@ -1378,16 +1393,17 @@ void Simulation::relax_contacts(int group) {
     return;
   {
     StageTimer timer(current_, ticks_, SolvePhase::relax_passes);
-    solver_.update_separations(group, state_.bodies);
-    solver_.load_velocities(group, state_.bodies);
+    scratch_->solver.update_separations(group, state_.bodies);
+    scratch_->solver.load_velocities(group, state_.bodies);
     for (int it = 0; it < w.relax_iterations; ++it)
-      solver_.solve(group, /*use_bias=*/false);
+      scratch_->solver.solve(group, /*use_bias=*/false);
     current_.solver_iterations += w.relax_iterations;
-    current_.point_passes += std::int64_t(w.relax_iterations) * solver_.group_point_count(group);
+    current_.point_passes +=
+        std::int64_t(w.relax_iterations) * scratch_->solver.group_point_count(group);
   }
   StageTimer timer(current_, ticks_, SolvePhase::restitution);
-  solver_.apply_restitution(group);
-  solver_.store_velocities(group, state_.bodies);
+  scratch_->solver.apply_restitution(group);
+  scratch_->solver.store_velocities(group, state_.bodies);
 }
 
 void Simulation::finish_contacts() {
@@ -1395,7 +1411,7 @@ void Simulation::finish_contacts() {
   if (scene_->world.solver == SolverType::penalty)
     penalty_solver_.store(state_.contacts);
   else
-    solver_.store(state_.contacts);
+    scratch_->solver.store(state_.contacts);
 }
 
 void Simulation::integrate_positions(int group, Real h) {
@@ -1421,9 +1437,10 @@ WorldMemory Simulation::memory() const {
                  bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
                  bytes(hold_before_) + bytes(contacts_wanting_) + bytes(weighed_level_) +
                  bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
-  m.contact_bytes = bytes(state_.contacts) + bytes(candidate_pairs_) + bytes(box_queries_) +
-                    bytes(box_manifolds_) + bytes(contacts_) + bytes(penalty_springs_) +
-                    bytes(group_of_contact_) + solver_.bytes_reserved();
+  m.contact_bytes = bytes(state_.contacts) + bytes(state_.manifolds) + bytes(state_.box_axes) +
+                    bytes(state_.gjk_caches) + bytes(state_.hull_axes) + bytes(candidate_pairs_) +
+                    bytes(contacts_) + bytes(penalty_springs_) + bytes(group_of_contact_);
+  m.scratch_bytes = own_scratch_ ? own_scratch_->bytes_reserved() : 0;
   return m;
 }
 

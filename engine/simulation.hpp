@@ -22,6 +22,7 @@
 #include "engine/state.hpp"
 #include "engine/step_statistics.hpp"
 #include "engine/step_ticks.hpp"
+#include "engine/step_workspace.hpp"
 
 namespace tumble {
 
@@ -30,6 +31,7 @@ namespace tumble {
 struct WorldMemory {
   std::size_t body_bytes = 0;
   std::size_t contact_bytes = 0;
+  std::size_t scratch_bytes = 0;  // its own StepWorkspace (none in a batch, which lends them)
 };
 
 class Simulation {
@@ -78,8 +80,12 @@ class Simulation {
   int add_body(const BodyDesc& desc);
   void remove_body(int body);
 
-  // Advances by scene().world.dt, in scene().world.substeps equal substeps.
+  // Advances by scene().world.dt, in scene().world.substeps equal substeps, with the world's own
+  // scratch arrays.
   void step();
+  // The same step with scratch arrays lent for it (a batch's thread's, used by one step at a
+  // time): the same bits whatever the workspace held before.
+  void step(StepWorkspace& scratch);
 
   // Threads a step uses: scene().world.threads, or the machine's cores for `auto`.
   int threads() const { return runner_->threads(); }
@@ -204,32 +210,10 @@ class Simulation {
   std::vector<GyroscopicCarry> carries_;
   std::vector<Real> speculative_margin_;
   std::vector<ProxyPair> candidate_pairs_;
-  std::vector<BoxPairQuery> box_queries_;     // the box-box candidate pairs to collide, in order
-  std::vector<std::int32_t> box_candidates_;  // their candidate indices
-  std::vector<Manifold> box_manifolds_;       // their manifolds
-  // The sphere-sphere candidate pairs to collide: two spheres per pair as arrays, the pairs, and
-  // their candidate indices; the batch's answers (7 arrays of one value per pair).
-  std::vector<Real> sphere_x_, sphere_y_, sphere_z_, sphere_radius_;
-  std::vector<SpherePair> sphere_pairs_;
-  std::vector<std::int32_t> sphere_candidates_;
-  std::vector<Real> sphere_out_;
-  std::vector<std::int32_t> other_candidates_;  // the candidates collide() answers one by one
-  std::vector<Manifold> candidate_manifolds_;   // per candidate pair
-  std::vector<std::int32_t> candidate_kept_;    // per candidate: its recycled entry, or -1
-  std::vector<std::uint8_t> candidate_route_;   // per candidate: how it is answered (kRoute...)
-  std::vector<RecyclableManifold> next_manifolds_;
-  std::vector<std::uint8_t> candidate_axis_;  // per candidate: the axis that separated it
-  std::vector<std::uint8_t> box_axes_found_;  // per box query: the axis that separated it
-  std::vector<CachedBoxAxis> next_box_axes_;
-  std::vector<std::uint8_t> candidate_uses_gjk_;  // per candidate: collide() answers it by GJK
-  std::vector<GjkCache> candidate_gjk_;           // and its warm start, updated by the query
-  std::vector<PairGjkCache> next_gjk_caches_;
-  std::vector<std::uint8_t> candidate_is_hull_pair_;  // per candidate: two hulls
-  std::vector<HullAxis> candidate_hull_axis_;         // and the direction that keeps them apart
-  std::vector<CachedHullAxis> next_hull_axes_;
-  std::vector<std::uint8_t> hull_hits_;  // per other candidate: skipped by its cached direction
   std::vector<PairContact> contacts_;
-  ContactSolver solver_;
+  // The step's scratch: the world's own, or one a batch lends for the step (step(workspace)).
+  std::unique_ptr<StepWorkspace> own_scratch_;
+  StepWorkspace* scratch_ = nullptr;
   // Substep groups of this step (docs/architecture.md, "Substeps per island"): group g's
   // settings, its moving awake bodies, and each contact's group. Group 0 runs the scene's
   // `substeps` and holds the bodies that touch nothing.

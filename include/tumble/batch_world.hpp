@@ -7,6 +7,7 @@
 // whatever the thread count. docs/api.md ("Batches of worlds") and docs/python.md describe it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -50,6 +51,9 @@ class BatchWorld {
   int body_count() const;  // per world
   int threads() const;
   void set_threads(int threads);
+  // Heap bytes of the scratch arrays the batch lends its worlds' steps: one set per step running
+  // at once, shared by all the worlds (a world itself keeps only its state).
+  std::size_t scratch_bytes() const;
 
   // [world][body][kObservationWidth], as of the last step or reset.
   std::span<const Real> observations() const;
