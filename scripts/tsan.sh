@@ -29,4 +29,4 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE
 cmake --build "$build" --target test_physics test_api -j "$(nproc)"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1"
 "$build/tests/test_physics" --gtest_filter='ThreadCount.*'
-"$build/tests/test_api" --gtest_filter='BatchWorld.*:Randomization.*'
+"$build/tests/test_api" --gtest_filter='BatchWorld.*:Randomization.*:StepWorkspace.*'
