@@ -63,21 +63,37 @@ DistanceBound convex_mesh_distance(const Shape& convex, const Transform& pose_c,
     return motion != nullptr &&
            !(bound - motion->target_distance >= out.least_advance * full_speed);
   };
+  // Whether a triangle at least `bound` from the shape can change the answer: one farther than
+  // `max_distance` is not measured at all, and one farther than the nearest found and too far
+  // to limit the advance changes neither.
+  const auto may_matter = [&](Real bound) {
+    return !(bound > max_distance + band) &&
+           (!(bound > out.distance + band) || may_limit_advance(bound));
+  };
   mesh.for_each_overlapping(reach, [&](int t) {
     // Corners in the world frame, then relative to the shape's centre.
     std::array<Vec3, 3> corners;
     for (int k = 0; k < 3; ++k)
       corners[std::size_t(k)] = pose_m.apply(mesh.corner(t, k)) - pose_c.translation;
-    const Real plane_distance = std::abs(pose_m.rotate(mesh.normal(t)).dot(corners[0]));
-    if (plane_distance - radius > out.distance + band &&
-        !may_limit_advance(plane_distance - radius))
+    const Vec3 plane_normal = pose_m.rotate(mesh.normal(t));
+    const Real plane_offset = plane_normal.dot(corners[0]);
+    if (!may_matter(std::abs(plane_offset) - radius))
       return;
     // The same bound from the triangle itself, tighter where the centre lies beside the
     // triangle rather than over it (a terrain's neighbouring triangles share its plane).
     const Real triangle_distance =
         closest_point_on_triangle(Vec3::Zero(), corners[0], corners[1], corners[2]).norm();
-    if (triangle_distance - radius > out.distance + band &&
-        !may_limit_advance(triangle_distance - radius))
+    if (!may_matter(triangle_distance - radius))
+      return;
+    // The shape's own extent towards the plane, tighter than its ball for a shape longer than
+    // it is thick: its gap to the plane bounds its distance to the triangle from below. Half of
+    // the triangles a swept body's reach takes in lie wholly beyond the distance asked for.
+    const Vec3 towards_plane = plane_offset >= 0 ? plane_normal : Vec3(-plane_normal);
+    int support_index = 0;
+    const Real extent =
+        towards_plane.dot(shape_support.core_support(towards_plane, support_index)) +
+        shape_support.radius;
+    if (!may_matter(std::abs(plane_offset) - extent))
       return;
     const ConvexSupport triangle = ConvexSupport::of_points(corners.data(), 3, {});
     const GjkResult g = gjk(shape_support, triangle);

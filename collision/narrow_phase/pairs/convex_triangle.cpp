@@ -205,6 +205,10 @@ Vec3 closest_point_on_triangle(const Vec3& p, const std::array<Vec3, 3>& tri,
 int sphere_triangle(const Shape& sphere, const TriangleView& tri, Real margin,
                     TriangleContact& contact) {
   const Real r = sphere.radius;
+  // In front of the triangle's plane by more than the margin: every depth below would be less
+  // than -margin (the distance to the triangle is at least the height over its plane).
+  if (-tri.normal.dot(tri.corner[0]) - r > margin)
+    return 0;
   TriangleRegion region;
   const Vec3 closest = closest_point_on_triangle(Vec3::Zero(), tri.corner, region);
   const RegionUse use = region_use(tri, region);
@@ -239,6 +243,10 @@ int capsule_triangle(const Shape& capsule, const TriangleView& tri, Real margin,
   const std::array<Real, 2> height{n.dot(end[0] - tri.corner[0]), n.dot(end[1] - tri.corner[0])};
   if (height[0] < -r && height[1] < -r)
     return 0;  // entirely behind
+  // Wholly in front of the plane by more than the margin: every depth below would be less than
+  // -margin (a core point's distance to the triangle is at least its height over the plane).
+  if (std::min(height[0], height[1]) - r > margin)
+    return 0;
   const Real scale = r + capsule.half_length + triangle_size(tri);
 
   // Closest points between the core segment and the triangle: the ends against the face, the

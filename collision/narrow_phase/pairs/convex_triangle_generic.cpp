@@ -79,6 +79,14 @@ void add_face_points(const Shape& shape, const TriangleView& tri, Real margin,
 
 int generic_triangle(const Shape& shape, const TriangleView& tri, Real margin,
                      TriangleContact& contact) {
+  // The shape's gap to the triangle's plane, from its support along the normal, bounds its
+  // distance to the triangle from below: a shape wholly in front of the plane, or wholly behind
+  // it, by more than the margin gives no contact, and GJK is not needed to say so (most of the
+  // triangles a mesh pair's box takes in, on a terrain).
+  const Real plane = tri.normal.dot(tri.corner[0]);
+  if (tri.normal.dot(support(shape, -tri.normal)) - plane > margin ||
+      plane - tri.normal.dot(support(shape, tri.normal)) > margin)
+    return 0;
   const ConvexSupport a = ConvexSupport::of(shape, Transform{});
   const ConvexSupport b = ConvexSupport::of_points(tri.corner.data(), 3, Transform{});
   const GjkResult g = gjk(a, b);
