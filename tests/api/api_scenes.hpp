@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,20 @@ inline BodyDesc compound_at(std::string name, const std::vector<CompoundPart>& p
   BodyDesc b = dynamic_body(std::move(name), compound_from_parts(parts, &centre), density);
   b.position = origin + centre;
   return b;
+}
+
+// Writes force(w, b) on every body b after the first (the ground) of every world w of a batch,
+// for its next step.
+template <class Force>
+void write_batch_forces(BatchWorld& batch, const Force& force) {
+  const int bodies = batch.body_count();
+  std::span<Real> f = batch.forces();
+  for (int w = 0; w < batch.size(); ++w)
+    for (int b = 1; b < bodies; ++b) {
+      const Vec3 push = force(w, b);
+      for (int c = 0; c < 3; ++c)
+        f[std::size_t((w * bodies + b) * 3 + c)] = push[c];
+    }
 }
 
 }  // namespace tumble::testing

@@ -33,13 +33,8 @@ Vec3 push(int w, int b, int s) {
 
 std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps) {
   BatchWorld batch(pile(), worlds, threads);
-  const int bodies = batch.body_count();
   for (int s = 0; s < steps; ++s) {
-    std::span<Real> f = batch.forces();
-    for (int w = 0; w < worlds; ++w)
-      for (int b = 1; b < bodies; ++b)
-        for (int c = 0; c < 3; ++c)
-          f[std::size_t((w * bodies + b) * 3 + c)] = push(w, b, s)[c];
+    testing::write_batch_forces(batch, [s](int w, int b) { return push(w, b, s); });
     batch.step();
   }
   std::vector<std::uint64_t> hashes;

@@ -75,14 +75,9 @@ TEST(StepWorkspace, WorldsThatShareScratchArraysStepAsLoneWorlds) {
   const int worlds = 9, steps = 60;
   for (const int threads : {1, 2}) {
     BatchWorld batch(scene, worlds, threads, 5);
-    const int bodies = batch.body_count();
     // One step at a time, so that each world's step follows other worlds' in the same arrays.
     for (int s = 0; s < steps; ++s) {
-      std::span<Real> f = batch.forces();
-      for (int w = 0; w < worlds; ++w)
-        for (int b = 1; b < bodies; ++b)
-          for (int c = 0; c < 3; ++c)
-            f[std::size_t((w * bodies + b) * 3 + c)] = push(w, b, s)[c];
+      testing::write_batch_forces(batch, [s](int w, int b) { return push(w, b, s); });
       batch.step();
     }
     std::vector<std::int64_t> contacts;
