@@ -137,6 +137,7 @@ nlohmann::json RunSummary::to_json_object(bool timings) const {
         {"touching_pairs", totals_.touching_pairs},
         {"recycled_pairs", totals_.recycled_pairs},
         {"recomputed_pairs", totals_.recomputed_pairs},
+        {"resting_pairs", totals_.resting_pairs},
         {"axis_cache_tries", totals_.axis_cache_tries},
         {"axis_cache_hits", totals_.axis_cache_hits},
         {"gjk_warm_starts", totals_.gjk_warm_starts},

@@ -1,7 +1,9 @@
 #include "engine/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <type_traits>
@@ -34,6 +36,37 @@ const Entry* find_pair(const std::vector<Entry>& sorted, std::size_t& cursor, st
   return cursor < sorted.size() && sorted[cursor].body_a == a && sorted[cursor].body_b == b
              ? &sorted[cursor]
              : nullptr;
+}
+
+// Moves the entries of `from` for which `moves` holds into `to`; both are sorted by pair and
+// share no pair, and stay so. In place (merged from the back): neither list allocates unless `to`
+// outgrows its capacity.
+template <class Entry, class Moves>
+void move_pairs_if(std::vector<Entry>& from, std::vector<Entry>& to, const Moves& moves) {
+  std::size_t count = 0;
+  for (const Entry& e : from)
+    count += moves(e) ? 1 : 0;
+  if (count == 0)
+    return;
+  const auto key = [](const Entry& e) { return std::pair{e.body_a, e.body_b}; };
+  std::size_t left_in_to = to.size();
+  to.resize(left_in_to + count);
+  std::size_t write = to.size();
+  std::size_t read = from.size();
+  for (; count > 0; --count) {
+    do
+      --read;
+    while (!moves(from[read]));
+    while (left_in_to > 0 && key(to[left_in_to - 1]) > key(from[read]))
+      to[--write] = to[--left_in_to];
+    to[--write] = from[read];
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    if (!moves(from[i]))
+      from[kept++] = from[i];
+  }
+  from.resize(kept);
 }
 
 // Drops the entries of `list` whose pair has `body` in it.
@@ -87,9 +120,11 @@ constexpr std::uint8_t kRouteBoxQuery = 1;
 constexpr std::uint8_t kRouteSphere = 2;
 constexpr std::uint8_t kRouteOther = 3;
 constexpr std::uint8_t kRouteKind = 3;
-constexpr std::uint8_t kRouteAxisTried = 4;  // a cached separating axis was tested
-constexpr std::uint8_t kRouteAxisHit = 8;    // and still separates
-constexpr std::uint8_t kRouteWarm = 16;      // GJK starts from last step's simplex
+constexpr std::uint8_t kRouteAxisTried = 4;      // a cached separating axis was tested
+constexpr std::uint8_t kRouteAxisHit = 8;        // and still separates
+constexpr std::uint8_t kRouteWarm = 16;          // GJK starts from last step's simplex
+constexpr std::uint8_t kRouteResting = 32;       // two resting bodies: not collided again
+constexpr std::uint8_t kRouteRestingTouch = 64;  // and they touched when last collided
 
 Transform pose_of(const BodyState& b) {
   return {b.position, b.orientation};
@@ -139,6 +174,11 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
     field_changes_[i] = shape.type == ShapeType::sdf && shape.sdf->changes_with_time();
   }
   kinematic_start_.resize(kinematic_bodies_.size());
+  // Another model may give a sleeping body another shape: its contacts are found again before
+  // they are taken from the resting touches.
+  for (std::uint8_t& asleep : state_.asleep)
+    asleep = std::min<std::uint8_t>(asleep, 1);
+  sleepers_may_have_woken_ = true;
   initial_state_into(*scene_, initial_state_);
   choose_penalty_substeps();
   // The tables are kept across resets (a world reset to a drawn model of the same bodies
@@ -243,6 +283,7 @@ void Simulation::set_state(const State& state, bool may_keep_broad_phase) {
       keep_broad_phase = false;
   }
   state_ = state;
+  sleepers_may_have_woken_ = true;
   // What the last step found and what was asked of the next one belong to the state left behind.
   contacts_.clear();
   penalty_springs_.clear();
@@ -311,9 +352,12 @@ void Simulation::drop_pairs_of(int body) {
   erase_pairs_of(state_.box_axes, body);
   erase_pairs_of(state_.gjk_caches, body);
   erase_pairs_of(state_.hull_axes, body);
+  erase_pairs_of(state_.resting_touches, body);
+  erase_pairs_of(state_.sleeping_contacts, body);
 }
 
 void Simulation::wake(int body) {
+  sleepers_may_have_woken_ = true;
   state_.asleep[std::size_t(body)] = 0;
   state_.slow_time[std::size_t(body)] = 0;
 }
@@ -600,11 +644,20 @@ void Simulation::wake_touched_islands() {
     if (state_.asleep[i] != 0 && island_awake_[islands_.root(static_cast<std::int32_t>(i))]) {
       state_.asleep[i] = 0;
       state_.slow_time[i] = 0;
+      sleepers_may_have_woken_ = true;
     }
   }
   const auto inactive = [&](std::int32_t b) {
     return model.is_fixed(std::size_t(b)) || state_.asleep[b] != 0;
   };
+  // The impulses a woken pair slept with go back to warm-start it (finish_contacts put them
+  // aside). Only a wake can make a pair active again, so without one there is nothing to look at.
+  if (sleepers_may_have_woken_ && !state_.sleeping_contacts.empty()) {
+    move_pairs_if(state_.sleeping_contacts, state_.contacts, [&](const CachedManifold& m) {
+      return !inactive(m.body_a) || !inactive(m.body_b);
+    });
+  }
+  sleepers_may_have_woken_ = false;
   std::size_t kept = 0;
   for (std::size_t c = 0; c < contacts_.size(); ++c) {
     if (inactive(contacts_[c].body_a) && inactive(contacts_[c].body_b))
@@ -769,6 +822,64 @@ void Simulation::find_candidate_pairs() {
   }
 }
 
+// The lists of sleeping pairs and of warm-start impulses hold at most one entry per candidate
+// pair: given that room while anything sleeps, they do not grow (allocate) when an island falls
+// asleep or wakes later on, only when the candidate pairs themselves outgrow their room.
+void Simulation::reserve_sleep_lists() {
+  if (std::find_if(state_.asleep.begin(), state_.asleep.end(),
+                   [](std::uint8_t a) { return a != 0; }) == state_.asleep.end())
+    return;
+  const std::size_t room = candidate_pairs_.capacity();
+  state_.resting_touches.reserve(room);
+  scratch_->next_resting_touches.reserve(room);
+  state_.sleeping_contacts.reserve(room);
+  state_.contacts.reserve(room);
+}
+
+// Which bodies' pairs the narrow phase takes from State::resting_touches this step (rest_skips_);
+// false when none. A body rests when it is static (its shape not changing with time) or has been
+// asleep since before the last narrow phase (asleep == 2): its pose and its box are the ones that
+// phase saw, so a pair of two resting bodies would give what it gave then. Such a pair is not
+// collided again unless its island (through the resting touches) may wake: a candidate pair of
+// one of its bodies with a body that does not rest puts the whole island through the narrow
+// phase, so that an island woken in this step has all its contacts in this step's solve, as Bullet
+// keeps the manifolds of the pairs it stops colliding (btCollisionDispatcher::needsCollision).
+bool Simulation::find_resting_bodies() {
+  const std::size_t n = state_.bodies.size();
+  bool any = false;
+  for (std::size_t i = 0; i < n && !any; ++i)
+    any = state_.asleep[i] == 2;
+  if (!any)
+    return false;
+  const auto& bodies = scene_->bodies;
+  const auto rests = [&](std::int32_t b) {
+    const std::size_t i = std::size_t(b);
+    return bodies[i].is_static ? field_changes_[i] == 0 : state_.asleep[i] == 2;
+  };
+  rest_islands_.reset(n);
+  for (const RestingTouch& t : state_.resting_touches) {
+    if (!bodies[std::size_t(t.body_a)].is_static && !bodies[std::size_t(t.body_b)].is_static &&
+        rests(t.body_a) && rests(t.body_b))
+      rest_islands_.join(t.body_a, t.body_b);
+  }
+  rest_disturbed_.assign(n, 0);
+  for (const ProxyPair& pair : candidate_pairs_) {
+    const bool a_rests = rests(pair.a);
+    if (a_rests == rests(pair.b))
+      continue;  // both rest (left out unless disturbed), or neither (collided)
+    const std::int32_t resting = a_rests ? pair.a : pair.b;
+    if (!bodies[std::size_t(resting)].is_static)
+      rest_disturbed_[std::size_t(rest_islands_.root(resting))] = 1;
+  }
+  rest_skips_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto b = static_cast<std::int32_t>(i);
+    rest_skips_[i] = rests(b) && (bodies[i].is_static ||
+                                  rest_disturbed_[std::size_t(rest_islands_.root(b))] == 0);
+  }
+  return true;
+}
+
 // Narrow phase. A pair whose relative pose moved less than the recycling tolerances since its
 // manifold was computed reuses it (collision/narrow_phase/manifold_recycling.hpp); the others
 // collide: box-box pairs, the most common in box scenes, through the batched path all at once
@@ -828,6 +939,10 @@ void Simulation::collide_candidate_pairs() {
   const std::vector<PairGjkCache>& gjk_kept = state_.gjk_caches;
   const std::vector<CachedHullAxis>& hull_kept = state_.hull_axes;
   scratch_->candidate_route.resize(n);
+  if (w.sleeping)
+    reserve_sleep_lists();
+  const bool some_rest = w.sleeping && find_resting_bodies();
+  const std::vector<RestingTouch>& touches = state_.resting_touches;
   // First each candidate on its own, on the threads: recycled, kept apart by last step's box axis,
   // or which query answers it (with its cached axis or warm start). A chunk finds its first entry
   // of each kept list by bisection, then walks (the candidates and every kept list are sorted by
@@ -848,6 +963,7 @@ void Simulation::collide_candidate_pairs() {
         std::size_t axis_cursor = start_of(axes);
         std::size_t gjk_cursor = start_of(gjk_kept);
         std::size_t hull_cursor = start_of(hull_kept);
+        std::size_t touch_cursor = some_rest ? start_of(touches) : 0;
         for (std::size_t i = std::size_t(begin); i < std::size_t(end); ++i) {
           const ProxyPair& pair = candidate_pairs_[i];
           std::uint8_t& route = scratch_->candidate_route[i];
@@ -856,6 +972,28 @@ void Simulation::collide_candidate_pairs() {
           if (model_->is_fixed(std::size_t(pair.a)) && model_->is_fixed(std::size_t(pair.b))) {
             scratch_->candidate_manifolds[i].count = 0;
             route = kRouteDone;
+            continue;
+          }
+          // Two resting bodies (find_resting_bodies): whether they touched, and their caches, as
+          // the last narrow phase left them. The solver would drop their contact anyway.
+          if (some_rest && rest_skips_[std::size_t(pair.a)] != 0 &&
+              rest_skips_[std::size_t(pair.b)] != 0) {
+            scratch_->candidate_manifolds[i].count = 0;
+            route = kRouteDone | kRouteResting;
+            if (find_pair(touches, touch_cursor, pair.a, pair.b) != nullptr)
+              route |= kRouteRestingTouch;
+            if (const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b))
+              scratch_->candidate_kept[i] = static_cast<std::int32_t>(manifold - kept.data());
+            if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b))
+              scratch_->candidate_axis[i] = cached->axis;
+            if (const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b)) {
+              scratch_->candidate_uses_gjk[i] = 1;
+              scratch_->candidate_gjk[i] = cached->cache;
+            }
+            if (const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b)) {
+              scratch_->candidate_is_hull_pair[i] = 1;
+              scratch_->candidate_hull_axis[i] = cached->axis;
+            }
             continue;
           }
           const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
@@ -1039,7 +1177,13 @@ void Simulation::collide_candidate_pairs() {
   scratch_->next_box_axes.clear();
   scratch_->next_gjk_caches.clear();
   scratch_->next_hull_axes.clear();
-  std::int64_t recycled = 0;
+  scratch_->next_resting_touches.clear();
+  // A body that can rest: static (its shape not changing), or asleep.
+  const auto inactive = [&](std::int32_t b) {
+    const std::size_t k = std::size_t(b);
+    return bodies[k].is_static ? field_changes_[k] == 0 : state_.asleep[k] != 0;
+  };
+  std::int64_t recycled = 0, resting = 0;
   std::int64_t sdf_refined = 0, sdf_refine_capped = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ProxyPair& pair = candidate_pairs_[i];
@@ -1053,6 +1197,17 @@ void Simulation::collide_candidate_pairs() {
     const BodyDesc& a = bodies[pair.a];
     const BodyDesc& b = bodies[pair.b];
     Manifold& manifold = scratch_->candidate_manifolds[i];
+    const std::uint8_t route = scratch_->candidate_route[i];
+    if ((route & kRouteResting) != 0) {
+      ++resting;
+      if (scratch_->candidate_kept[i] >= 0)
+        scratch_->next_manifolds.push_back(kept[std::size_t(scratch_->candidate_kept[i])]);
+      if ((route & kRouteRestingTouch) != 0)
+        scratch_->next_resting_touches.push_back({pair.a, pair.b});
+      continue;
+    }
+    if (w.sleeping && manifold.count > 0 && inactive(pair.a) && inactive(pair.b))
+      scratch_->next_resting_touches.push_back({pair.a, pair.b});
     if (scratch_->candidate_kept[i] >= 0) {
       ++recycled;
       scratch_->next_manifolds.push_back(kept[std::size_t(scratch_->candidate_kept[i])]);
@@ -1090,6 +1245,12 @@ void Simulation::collide_candidate_pairs() {
   state_.box_axes.swap(scratch_->next_box_axes);
   state_.gjk_caches.swap(scratch_->next_gjk_caches);
   state_.hull_axes.swap(scratch_->next_hull_axes);
+  if (w.sleeping) {
+    state_.resting_touches.swap(scratch_->next_resting_touches);
+    // Every sleeping body has now been through a narrow phase where it rests.
+    for (std::uint8_t& asleep : state_.asleep)
+      asleep = asleep != 0 ? 2 : 0;
+  }
   std::int64_t hull_hits = 0;
   for (std::size_t k = 0; k < scratch_->other_candidates.size(); ++k)
     hull_hits += scratch_->hull_hits[k];
@@ -1102,7 +1263,8 @@ void Simulation::collide_candidate_pairs() {
   current_.axis_cache_hits += axis_hits;
   current_.touching_pairs += static_cast<std::int64_t>(contacts_.size());
   current_.recycled_pairs += recycled;
-  current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled;
+  current_.resting_pairs += resting;
+  current_.recomputed_pairs += static_cast<std::int64_t>(n) - recycled - resting;
 }
 
 void Simulation::prepare_contacts() {
@@ -1408,6 +1570,18 @@ void Simulation::relax_contacts(int group) {
 
 void Simulation::finish_contacts() {
   StageTimer timer(current_, ticks_, SolvePhase::store_impulses);
+  // The solver stores the impulses of the pairs it solved; those of pairs that now sleep (left
+  // out by wake_touched_islands) are put aside until their island wakes, as Box2D's sleeping
+  // islands keep their constraints and Bullet's persistent manifolds their applied impulses.
+  if (scene_->world.sleeping) {
+    const Model& model = *model_;
+    const auto inactive = [&](std::int32_t b) {
+      return model.is_fixed(std::size_t(b)) || state_.asleep[std::size_t(b)] != 0;
+    };
+    move_pairs_if(state_.contacts, state_.sleeping_contacts, [&](const CachedManifold& m) {
+      return inactive(m.body_a) && inactive(m.body_b);
+    });
+  }
   if (scene_->world.solver == SolverType::penalty)
     penalty_solver_.store(state_.contacts);
   else
@@ -1437,9 +1611,10 @@ WorldMemory Simulation::memory() const {
                  bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
                  bytes(hold_before_) + bytes(contacts_wanting_) + bytes(weighed_level_) +
                  bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
-  m.contact_bytes = bytes(state_.contacts) + bytes(state_.manifolds) + bytes(state_.box_axes) +
-                    bytes(state_.gjk_caches) + bytes(state_.hull_axes) + bytes(candidate_pairs_) +
-                    bytes(contacts_) + bytes(penalty_springs_) + bytes(group_of_contact_);
+  m.contact_bytes = bytes(state_.contacts) + bytes(state_.sleeping_contacts) +
+                    bytes(state_.manifolds) + bytes(state_.box_axes) + bytes(state_.gjk_caches) +
+                    bytes(state_.hull_axes) + bytes(candidate_pairs_) + bytes(contacts_) +
+                    bytes(penalty_springs_) + bytes(group_of_contact_);
   m.scratch_bytes = own_scratch_ ? own_scratch_->bytes_reserved() : 0;
   return m;
 }

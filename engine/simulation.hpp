@@ -159,6 +159,8 @@ class Simulation {
   void finish_contacts();
   void rebuild_broad_phase();
   void wake_touched_islands();
+  bool find_resting_bodies();
+  void reserve_sleep_lists();
   void update_sleep(Real dt);
   void sweep_fast_bodies();
 
@@ -233,6 +235,16 @@ class Simulation {
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
   Islands islands_;
+  // Sleeping islands the narrow phase leaves out (find_resting_bodies): islands of the resting
+  // touches, whether a body that does not rest meets one, and per body whether its resting pairs
+  // are taken from State::resting_touches this step.
+  Islands rest_islands_;
+  std::vector<std::uint8_t> rest_disturbed_;  // per root of rest_islands_
+  std::vector<std::uint8_t> rest_skips_;      // per body
+  // Whether a sleeping body may have woken since the last wake_touched_islands (wake(), a new
+  // state or model, or that stage itself): only then can a pair of State::sleeping_contacts be
+  // active again.
+  bool sleepers_may_have_woken_ = true;
   std::vector<std::uint8_t> island_awake_;  // per root body
   std::vector<Real> island_slow_time_;      // per root body: the least of its bodies'
   std::unique_ptr<ContinuousCollision> continuous_;

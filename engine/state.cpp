@@ -29,6 +29,8 @@ void initial_state_into(const Scene& scene, State& s) {
   s.box_axes.clear();
   s.gjk_caches.clear();
   s.hull_axes.clear();
+  s.resting_touches.clear();
+  s.sleeping_contacts.clear();
   s.slow_time.assign(scene.bodies.size(), 0);
   s.asleep.assign(scene.bodies.size(), 0);
   s.substep_level.assign(scene.bodies.size(), 0);
@@ -78,18 +80,21 @@ std::uint64_t state_hash(const State& state) {
     h.add(b.velocity);
     h.add(b.angular_velocity);
   }
-  h.add_u64(state.contacts.size());
-  for (const CachedManifold& m : state.contacts) {
-    h.add_u64(static_cast<std::uint64_t>(m.body_a));
-    h.add_u64(static_cast<std::uint64_t>(m.body_b));
-    h.add_u64(static_cast<std::uint64_t>(m.count));
-    for (int k = 0; k < m.count; ++k) {
-      h.add_u64(m.points[k].feature);
-      h.add(m.points[k].local_point);
-      h.add(m.points[k].normal_impulse);
-      h.add(m.points[k].friction_impulse);
+  const auto add_impulses = [&h](const std::vector<CachedManifold>& list) {
+    h.add_u64(list.size());
+    for (const CachedManifold& m : list) {
+      h.add_u64(static_cast<std::uint64_t>(m.body_a));
+      h.add_u64(static_cast<std::uint64_t>(m.body_b));
+      h.add_u64(static_cast<std::uint64_t>(m.count));
+      for (int k = 0; k < m.count; ++k) {
+        h.add_u64(m.points[k].feature);
+        h.add(m.points[k].local_point);
+        h.add(m.points[k].normal_impulse);
+        h.add(m.points[k].friction_impulse);
+      }
     }
-  }
+  };
+  add_impulses(state.contacts);
   h.add_u64(state.manifolds.size());
   for (const RecyclableManifold& m : state.manifolds) {
     h.add_u64(static_cast<std::uint64_t>(m.body_a));
@@ -132,6 +137,17 @@ std::uint64_t state_hash(const State& state) {
     h.add_u64(state.asleep[i]);
     h.add(state.slow_time[i]);
   }
+  // Only a world that has slept has resting pairs and sleeping impulses: an empty list adds
+  // nothing, so that the hashes of worlds that never sleep do not depend on these lists.
+  if (!state.resting_touches.empty()) {
+    h.add_u64(state.resting_touches.size());
+    for (const RestingTouch& t : state.resting_touches) {
+      h.add_u64(static_cast<std::uint64_t>(t.body_a));
+      h.add_u64(static_cast<std::uint64_t>(t.body_b));
+    }
+  }
+  if (!state.sleeping_contacts.empty())
+    add_impulses(state.sleeping_contacts);
   h.add_u64(state.substep_level.size());
   for (std::size_t i = 0; i < state.substep_level.size(); ++i) {
     h.add_u64(state.substep_level[i]);

@@ -23,6 +23,12 @@ struct PairGjkCache {
   GjkCache cache;
 };
 
+// A touching pair of resting bodies (State::resting_touches).
+struct RestingTouch {
+  std::int32_t body_a = 0;  // body_a < body_b
+  std::int32_t body_b = 0;
+};
+
 struct State {
   Real time = 0;                         // s
   std::int64_t step = 0;                 // steps taken
@@ -41,9 +47,19 @@ struct State {
   // pair (collision/narrow_phase/hull_axis_cache.hpp).
   std::vector<CachedHullAxis> hull_axes;
   // Sleeping (WorldSettings::sleeping): how long each body has been slower than the sleep
-  // speed [s], and whether it sleeps (1) or not (0). One per body; all zero when sleeping is off.
+  // speed [s], and whether it is awake (0), asleep (1), or asleep with its contacts found where it
+  // now rests (2: it has been through a narrow phase asleep, and cannot have moved since). One
+  // per body; all zero when sleeping is off.
   std::vector<Real> slow_time;
   std::vector<std::uint8_t> asleep;
+  // The pairs of sleeping (or static) bodies that touched when the narrow phase last looked at
+  // them, sorted by pair. While both bodies of a pair rest (asleep at 2, or static) and nothing
+  // awake touches their island, the narrow phase takes the pair's contact from here instead of
+  // colliding it again (docs/architecture.md, "Sleeping").
+  std::vector<RestingTouch> resting_touches;
+  // The warm-start impulses of the pairs of sleeping (or fixed) bodies, which the solver leaves
+  // out, sorted by pair: an island that wakes starts from the impulses it fell asleep with.
+  std::vector<CachedManifold> sleeping_contacts;
   // Substeps per island (docs/architecture.md): each body's island ran the scene's substeps
   // times 2^substep_level last step, and keeps that level for substep_hold more steps before it
   // may step down. One each per body.

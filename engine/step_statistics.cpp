@@ -55,6 +55,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   touching_pairs += o.touching_pairs;
   recycled_pairs += o.recycled_pairs;
   recomputed_pairs += o.recomputed_pairs;
+  resting_pairs += o.resting_pairs;
   axis_cache_tries += o.axis_cache_tries;
   axis_cache_hits += o.axis_cache_hits;
   gjk_warm_starts += o.gjk_warm_starts;

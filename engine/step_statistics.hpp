@@ -44,6 +44,9 @@ struct StepStatistics {
   std::int64_t touching_pairs = 0;                             // pairs with a manifold
   std::int64_t recycled_pairs = 0;    // candidate pairs that reused their kept manifold
   std::int64_t recomputed_pairs = 0;  // candidate pairs collided afresh
+  // Candidate pairs of two resting bodies, taken from the last narrow phase
+  // (State::resting_touches).
+  std::int64_t resting_pairs = 0;
   // Box and hull pairs whose cached separating axis was tried, and of those, the ones it still
   // kept apart (no query run; collision/narrow_phase/box_axis_cache.hpp,
   // collision/narrow_phase/hull_axis_cache.hpp).

@@ -13,7 +13,7 @@ std::size_t StepWorkspace::bytes_reserved() const {
          bytes(candidate_axis) + bytes(box_axes_found) + bytes(candidate_uses_gjk) +
          bytes(candidate_gjk) + bytes(candidate_is_hull_pair) + bytes(candidate_hull_axis) +
          bytes(hull_hits) + bytes(next_manifolds) + bytes(next_box_axes) + bytes(next_gjk_caches) +
-         bytes(next_hull_axes) + solver.bytes_reserved();
+         bytes(next_hull_axes) + bytes(next_resting_touches) + solver.bytes_reserved();
 }
 
 }  // namespace tumble

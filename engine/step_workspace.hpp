@@ -52,6 +52,7 @@ struct StepWorkspace {
   std::vector<CachedBoxAxis> next_box_axes;
   std::vector<PairGjkCache> next_gjk_caches;
   std::vector<CachedHullAxis> next_hull_axes;
+  std::vector<RestingTouch> next_resting_touches;
   ContactSolver solver;
 
   // Heap bytes held (capacities), for the benchmark's memory figures.
