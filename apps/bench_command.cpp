@@ -155,11 +155,15 @@ int bench_command(const BenchOptions& options) {
         const double ns_per_pair = 1e9 * per(totals.seconds[static_cast<int>(Stage::narrow_phase)],
                                              static_cast<double>(totals.candidate_pairs));
         const double points_per_step = per(static_cast<double>(totals.contact_points), total_steps);
-        const double recycled_share =
-            per(static_cast<double>(totals.recycled_pairs),
-                static_cast<double>(totals.recycled_pairs + totals.recomputed_pairs));
+        // Resting pairs (sleeping bodies, left out of the narrow phase) go through the sorting
+        // pass with the recycled ones.
+        const double all_pairs = static_cast<double>(
+            totals.recycled_pairs + totals.recomputed_pairs + totals.resting_pairs);
+        const double recycled_share = per(static_cast<double>(totals.recycled_pairs), all_pairs);
+        const double resting_share = per(static_cast<double>(totals.resting_pairs), all_pairs);
         const double ns_per_recycled =
-            1e9 * per(totals.recycle_seconds, static_cast<double>(totals.recycled_pairs));
+            1e9 * per(totals.recycle_seconds,
+                      static_cast<double>(totals.recycled_pairs + totals.resting_pairs));
         const double ns_per_recomputed =
             1e9 * per(totals.recompute_seconds, static_cast<double>(totals.recomputed_pairs));
         const double bytes_per_body = per(static_cast<double>(runs.memory.body_bytes),
@@ -192,7 +196,8 @@ int bench_command(const BenchOptions& options) {
                   << " ns per narrow-phase pair, substeps up to " << totals.max_substeps << ", "
                   << bytes_per_body << " bytes per body, " << bytes_per_point
                   << " bytes per contact point\n    narrow phase: " << 100 * recycled_share
-                  << "% of pairs recycled, " << ns_per_recycled << " ns per recycled pair (with "
+                  << "% of pairs recycled, " << 100 * resting_share << "% resting, "
+                  << ns_per_recycled << " ns per recycled or resting pair (with "
                   << "sorting the candidates), " << ns_per_recomputed
                   << " ns per recomputed pair\n";
         summary << name << ',' << (sleeping ? "on" : "off") << ',' << scene->bodies.size() << ','

@@ -123,7 +123,8 @@ TEST(OracleCli, BenchWritesCsv) {
   EXPECT_NE(header.find("tumble_solve_soft_passes_ms"), std::string::npos) << header;
   EXPECT_NE(header.find(",threads,"), std::string::npos) << header;
   EXPECT_NE(header.find("tumble_ns_per_recomputed_pair"), std::string::npos) << header;
-  EXPECT_NE(r.output.find("ns per recycled pair"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ns per recycled or resting pair"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("% resting"), std::string::npos) << r.output;
   const auto fields = [](const std::string& row) {
     return std::count(row.begin(), row.end(), ',') + 1;
   };
