@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <iterator>
 #include <limits>
 #include <numbers>
 #include <type_traits>
@@ -1610,11 +1609,13 @@ WorldMemory Simulation::memory() const {
                  bytes(carries_) + bytes(speculative_margin_) + bytes(group_bodies_) +
                  bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
                  bytes(hold_before_) + bytes(contacts_wanting_) + bytes(weighed_level_) +
-                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_);
+                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_) +
+                 bytes(rest_disturbed_) + bytes(rest_skips_);
   m.contact_bytes = bytes(state_.contacts) + bytes(state_.sleeping_contacts) +
-                    bytes(state_.manifolds) + bytes(state_.box_axes) + bytes(state_.gjk_caches) +
-                    bytes(state_.hull_axes) + bytes(candidate_pairs_) + bytes(contacts_) +
-                    bytes(penalty_springs_) + bytes(group_of_contact_);
+                    bytes(state_.resting_touches) + bytes(state_.manifolds) +
+                    bytes(state_.box_axes) + bytes(state_.gjk_caches) + bytes(state_.hull_axes) +
+                    bytes(candidate_pairs_) + bytes(contacts_) + bytes(penalty_springs_) +
+                    bytes(group_of_contact_);
   m.scratch_bytes = own_scratch_ ? own_scratch_->bytes_reserved() : 0;
   return m;
 }
