@@ -9,7 +9,6 @@
 
 #include "engine/simulation.hpp"
 #include "tests/stability/stability_run.hpp"
-#include "tumble/load_scene.hpp"
 
 namespace tumble::test {
 namespace {
@@ -18,35 +17,26 @@ namespace {
 // a floor; a box dropped from 22 m onto the pyramid's top, which lands after the pyramid sleeps
 // and wakes its island; a sphere dropped from 30 m beside the lone box, which wakes nothing.
 std::shared_ptr<const Scene> resting_scene(SolverType solver) {
-  std::string yaml = R"(
-world:
-  dt: 0.0166666666666666667
-  sleeping: true
-  sleep_speed: 0.05
-  sleep_time: 0.5
-materials:
-  default: {friction: 0.6, restitution: 0}
-bodies:
-  - {name: floor, shape: {type: plane}, static: true}
-  - {name: drop, shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0.1, 0, 22], mass: 1}
-  - {name: ball_drop, shape: {type: sphere, radius: 0.3}, position: [8, 2, 30], mass: 1}
-  - {name: plinth, shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [-8, 0, 0.5], mass: 2}
-  - {name: ball, shape: {type: sphere, radius: 0.4}, position: [-8, 0, 1.4], mass: 1}
-  - {name: lone, shape: {type: box, half_extents: [0.4, 0.3, 0.2]}, position: [8, 0, 0.2], mass: 1}
-)";
+  std::string bodies =
+      "  - {name: drop, shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0.1, 0, "
+      "22], mass: 1}\n"
+      "  - {name: ball_drop, shape: {type: sphere, radius: 0.3}, position: [8, 2, 30], mass: 1}\n"
+      "  - {name: plinth, shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [-8, 0, "
+      "0.5], mass: 2}\n"
+      "  - {name: ball, shape: {type: sphere, radius: 0.4}, position: [-8, 0, 1.4], mass: 1}\n"
+      "  - {name: lone, shape: {type: box, half_extents: [0.4, 0.3, 0.2]}, position: [8, 0, 0.2], "
+      "mass: 1}\n";
   int index = 0;
   for (int layer = 0; layer < 4; ++layer) {
     const int count = 4 - layer;
     for (int k = 0; k < count; ++k) {
       const double x = (k - 0.5 * (count - 1)) * 1.02;
-      yaml += "  - {name: p" + std::to_string(index++) +
-              ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [" +
-              std::to_string(x) + ", 0, " + std::to_string(0.5 + layer) + "], mass: 1}\n";
+      bodies += "  - {name: p" + std::to_string(index++) +
+                ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [" +
+                std::to_string(x) + ", 0, " + std::to_string(0.5 + layer) + "], mass: 1}\n";
     }
   }
-  auto scene = std::make_shared<Scene>(*load_scene_text(yaml, "resting.yaml"));
-  scene->world.solver = solver;
-  return scene;
+  return sleeping_scene(bodies, solver);
 }
 
 bool same_bits(const BodyState& a, const BodyState& b) {

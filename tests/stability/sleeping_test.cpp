@@ -6,7 +6,6 @@
 #include <string>
 
 #include "tests/stability/stability_run.hpp"
-#include "tumble/load_scene.hpp"
 
 namespace tumble::test {
 namespace {
@@ -86,23 +85,14 @@ TEST(Sleeping, RestoredStateContinuesIdentically) {
 // island warm-starts from them: a woken tower of boxes then holds nearly still, where the same
 // tower woken with no impulses (the state's sleeping impulses cleared) first sags.
 TEST(Sleeping, AWokenIslandStartsFromTheImpulsesItSleptWith) {
-  std::string yaml = R"(
-world:
-  dt: 0.0166666666666666667
-  sleeping: true
-  sleep_speed: 0.05
-  sleep_time: 0.5
-bodies:
-  - {name: floor, shape: {type: plane}, static: true}
-)";
+  std::string bodies;
   for (int k = 0; k < 8; ++k)
-    yaml += "  - {name: b" + std::to_string(k) +
-            ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0, 0, " +
-            std::to_string(0.5 + k) + "], mass: 1}\n";
+    bodies += "  - {name: b" + std::to_string(k) +
+              ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0, 0, " +
+              std::to_string(0.5 + k) + "], mass: 1}\n";
   for (SolverType solver : {SolverType::impulse, SolverType::penalty}) {
     const char* label = solver_label(solver);
-    auto scene = std::make_shared<Scene>(*load_scene_text(yaml, "tower.yaml"));
-    scene->world.solver = solver;
+    const auto scene = sleeping_scene(bodies, solver);
     const int bottom = scene->find_body("b0");
     const int floor = scene->find_body("floor");
     Simulation world(scene);

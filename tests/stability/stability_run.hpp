@@ -19,12 +19,32 @@
 #include "engine/simulation.hpp"
 #include "scenes/scene_loader.hpp"
 #include "tests/property_scale.hpp"
+#include "tumble/load_scene.hpp"
 
 namespace tumble::test {
 
 inline std::shared_ptr<Scene> stability_scene(const std::string& name, SolverType solver) {
   auto scene = std::make_shared<Scene>(
       load_scene_file(std::string(TUMBLE_SOURCE_DIR) + "/scenes/stability/" + name));
+  scene->world.solver = solver;
+  return scene;
+}
+
+// A scene with sleeping on (asleep after 0.5 s below 5 cm/s), friction 0.6, a floor plane and
+// `bodies`: YAML lines of the `bodies:` list, each ending in a newline.
+inline std::shared_ptr<Scene> sleeping_scene(const std::string& bodies, SolverType solver) {
+  const std::string yaml = R"(
+world:
+  dt: 0.0166666666666666667
+  sleeping: true
+  sleep_speed: 0.05
+  sleep_time: 0.5
+materials:
+  default: {friction: 0.6, restitution: 0}
+bodies:
+  - {name: floor, shape: {type: plane}, static: true}
+)" + bodies;
+  auto scene = std::make_shared<Scene>(*load_scene_text(yaml, "sleeping.yaml"));
   scene->world.solver = solver;
   return scene;
 }
