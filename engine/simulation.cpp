@@ -609,9 +609,9 @@ void Simulation::step_on_runner() {
 }
 
 // Islands of this step's contact graph (static bodies excluded). An island with one awake body
-// wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, so a
-// sleeping island costs collision only. Their warm-start impulses are dropped: a woken island
-// restarts its impulses from zero.
+// wakes whole; the pairs of sleeping islands (and their static supports) leave the solver, and
+// most of them the narrow phase too (find_resting_bodies). Their warm-start impulses wait in
+// State::sleeping_contacts (finish_contacts), and a woken island starts from them.
 void Simulation::wake_touched_islands() {
   if (!scene_->world.sleeping)
     return;
