@@ -81,15 +81,21 @@ TEST(Sleeping, RestoredStateContinuesIdentically) {
   EXPECT_NE(state_hash(awake), state_hash(snapshot));
 }
 
+// A tower of `count` unit boxes of 1 kg, b0 at the bottom, as YAML lines of `bodies:`.
+std::string tower_of_boxes(int count) {
+  std::string bodies;
+  for (int k = 0; k < count; ++k)
+    bodies += "  - {name: b" + std::to_string(k) +
+              ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0, 0, " +
+              std::to_string(0.5 + k) + "], mass: 1}\n";
+  return bodies;
+}
+
 // A sleeping pair keeps the impulses it fell asleep with (State::sleeping_contacts), and a woken
 // island warm-starts from them: a woken tower of boxes then holds nearly still, where the same
 // tower woken with no impulses (the state's sleeping impulses cleared) first sags.
 TEST(Sleeping, AWokenIslandStartsFromTheImpulsesItSleptWith) {
-  std::string bodies;
-  for (int k = 0; k < 8; ++k)
-    bodies += "  - {name: b" + std::to_string(k) +
-              ", shape: {type: box, half_extents: [0.5, 0.5, 0.5]}, position: [0, 0, " +
-              std::to_string(0.5 + k) + "], mass: 1}\n";
+  const std::string bodies = tower_of_boxes(8);
   for (SolverType solver : {SolverType::impulse, SolverType::penalty}) {
     const char* label = solver_label(solver);
     const auto scene = sleeping_scene(bodies, solver);
@@ -136,6 +142,40 @@ TEST(Sleeping, AWokenIslandStartsFromTheImpulsesItSleptWith) {
     const Real cold_speed = speed_after_waking(cold);
     EXPECT_LT(warm, 0.5 * cold_speed)
         << label << ": warm " << warm << " m/s, cold " << cold_speed << " m/s";
+  }
+}
+
+// A sleeping body taken out of a sleeping tower (removed, or moved away) takes its pairs out of
+// the sleep records, and what rested on it wakes and falls.
+TEST(Sleeping, ABodyTakenOutOfASleepingTowerLeavesNoSleepRecordAndWhatRestedOnItFalls) {
+  const std::string bodies = tower_of_boxes(4);
+  const auto scene = sleeping_scene(bodies, SolverType::impulse);
+  const int second = scene->find_body("b1");
+  const int top = scene->find_body("b3");
+  for (const bool remove : {true, false}) {
+    Simulation world(scene);
+    for (int k = 0; k < 120; ++k)
+      world.step();
+    ASSERT_NE(world.state().asleep[std::size_t(top)], 0) << "the tower never slept";
+    ASSERT_FALSE(world.state().resting_touches.empty());
+    ASSERT_FALSE(world.state().sleeping_contacts.empty());
+    const Real top_before = world.state().bodies[std::size_t(top)].position.z();
+    if (remove)
+      world.remove_body(second);
+    else
+      world.teleport(second, Vec3(10, 0, 0.5), Quat::Identity());
+    const auto involves = [&](const auto& entry) {
+      return entry.body_a == second || entry.body_b == second;
+    };
+    for (const RestingTouch& t : world.state().resting_touches)
+      EXPECT_FALSE(involves(t)) << (remove ? "removed" : "moved");
+    for (const CachedManifold& m : world.state().sleeping_contacts)
+      EXPECT_FALSE(involves(m)) << (remove ? "removed" : "moved");
+    for (int k = 0; k < 30; ++k)
+      world.step();
+    // The two boxes above fell by about the removed box's height.
+    EXPECT_NEAR(world.state().bodies[std::size_t(top)].position.z(), top_before - 1, 0.05)
+        << (remove ? "removed" : "moved");
   }
 }
 
