@@ -646,9 +646,7 @@ void Simulation::wake_touched_islands() {
       sleepers_may_have_woken_ = true;
     }
   }
-  const auto inactive = [&](std::int32_t b) {
-    return model.is_fixed(std::size_t(b)) || state_.asleep[b] != 0;
-  };
+  const auto inactive = [&](std::int32_t b) { return out_of_solver(b); };
   // The impulses a woken pair slept with go back to warm-start it (finish_contacts put them
   // aside). Only a wake can make a pair active again, so without one there is nothing to look at.
   if (sleepers_may_have_woken_ && !state_.sleeping_contacts.empty()) {
@@ -667,6 +665,12 @@ void Simulation::wake_touched_islands() {
   }
   contacts_.resize(kept);
   penalty_springs_.resize(kept);
+}
+
+// A body the solver leaves out: fixed (static or kinematic), or asleep. A pair of two such bodies
+// is left out of the solve (wake_touched_islands) and its impulses set aside (finish_contacts).
+bool Simulation::out_of_solver(std::int32_t body) const {
+  return model_->is_fixed(std::size_t(body)) || state_.asleep[std::size_t(body)] != 0;
 }
 
 // A body is slow when |v| + |w| r is below the sleep speed; an island whose bodies have all
@@ -1573,12 +1577,8 @@ void Simulation::finish_contacts() {
   // out by wake_touched_islands) are put aside until their island wakes, as Box2D's sleeping
   // islands keep their constraints and Bullet's persistent manifolds their applied impulses.
   if (scene_->world.sleeping) {
-    const Model& model = *model_;
-    const auto inactive = [&](std::int32_t b) {
-      return model.is_fixed(std::size_t(b)) || state_.asleep[std::size_t(b)] != 0;
-    };
     move_pairs_if(state_.contacts, state_.sleeping_contacts, [&](const CachedManifold& m) {
-      return inactive(m.body_a) && inactive(m.body_b);
+      return out_of_solver(m.body_a) && out_of_solver(m.body_b);
     });
   }
   if (scene_->world.solver == SolverType::penalty)

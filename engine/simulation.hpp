@@ -161,6 +161,7 @@ class Simulation {
   void wake_touched_islands();
   bool find_resting_bodies();
   void reserve_sleep_lists();
+  bool out_of_solver(std::int32_t body) const;
   void update_sleep(Real dt);
   void sweep_fast_bodies();
 
