@@ -1,9 +1,5 @@
 #include "renders/renderer.hpp"
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/gl.h>
-#include <GL/osmesa.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,6 +9,7 @@
 
 #include "collision/shapes/surface_mesh.hpp"
 #include "renders/camera_framing.hpp"
+#include "renders/osmesa_library.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 // Mesa's OSMesa keeps framebuffer records it never frees (a list that lives until exit); they
@@ -194,14 +191,6 @@ Floor make_floor(const BodyDesc& plane, const Aabb& bounds, const Vec3& target) 
   return floor;
 }
 
-void set_colour(const Colour& c, float alpha = 1) {
-  glColor4f(c[0], c[1], c[2], alpha);
-}
-
-void vertex(const Vec3& p) {
-  glVertex3d(p.x(), p.y(), p.z());
-}
-
 }  // namespace
 
 std::string_view overlay_name(Overlay overlay) {
@@ -227,6 +216,8 @@ std::string overlay_names() {
 }
 
 struct Renderer::Impl {
+  // Loaded when the first renderer is made (throws with the reason when libOSMesa is missing).
+  const OsMesaLibrary& gl = osmesa_library();
   const Scene& scene;
   RenderSettings settings;
   Camera camera;
@@ -258,43 +249,47 @@ struct Renderer::Impl {
     return d.is_static ? kStaticColour : kPalette[i % kPalette.size()];
   }
 
+  void set_colour(const Colour& c, float alpha = 1) const { gl.glColor4f(c[0], c[1], c[2], alpha); }
+
+  void vertex(const Vec3& p) const { gl.glVertex3d(p.x(), p.y(), p.z()); }
+
   void draw_mesh(const DrawMesh& m) const {
-    glVertexPointer(3, GL_FLOAT, 0, m.positions.data());
-    glNormalPointer(GL_FLOAT, 0, m.normals.data());
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m.indices.size()), GL_UNSIGNED_INT,
-                   m.indices.data());
+    gl.glVertexPointer(3, GL_FLOAT, 0, m.positions.data());
+    gl.glNormalPointer(GL_FLOAT, 0, m.normals.data());
+    gl.glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m.indices.size()), GL_UNSIGNED_INT,
+                      m.indices.data());
   }
 
   void draw_floors() const {
-    glEnableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_NORMAL_ARRAY);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_ALWAYS, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glDisable(GL_CULL_FACE);
+    gl.glEnableClientState(GL_COLOR_ARRAY);
+    gl.glDisableClientState(GL_NORMAL_ARRAY);
+    gl.glEnable(GL_STENCIL_TEST);
+    gl.glStencilFunc(GL_ALWAYS, 1, 0xff);
+    gl.glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    gl.glDisable(GL_CULL_FACE);
     for (const Floor& f : floors) {
-      glNormal3d(f.normal.x(), f.normal.y(), f.normal.z());
-      glVertexPointer(3, GL_FLOAT, 0, f.positions.data());
-      glColorPointer(3, GL_FLOAT, 0, f.colours.data());
-      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(f.positions.size() / 3));
+      gl.glNormal3d(f.normal.x(), f.normal.y(), f.normal.z());
+      gl.glVertexPointer(3, GL_FLOAT, 0, f.positions.data());
+      gl.glColorPointer(3, GL_FLOAT, 0, f.colours.data());
+      gl.glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(f.positions.size() / 3));
     }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glEnableClientState(GL_NORMAL_ARRAY);
-    glDisable(GL_STENCIL_TEST);
+    gl.glDisableClientState(GL_COLOR_ARRAY);
+    gl.glEnableClientState(GL_NORMAL_ARRAY);
+    gl.glDisable(GL_STENCIL_TEST);
   }
 
   void draw_shadows(const State& state) const {
-    glDisable(GL_LIGHTING);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glDepthMask(GL_FALSE);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(-2, -2);
+    gl.glDisable(GL_LIGHTING);
+    gl.glEnable(GL_BLEND);
+    gl.glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    gl.glDepthMask(GL_FALSE);
+    gl.glEnable(GL_POLYGON_OFFSET_FILL);
+    gl.glPolygonOffset(-2, -2);
     // Each floor pixel darkens once however many shadows overlap it.
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_EQUAL, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-    glColor4f(0.05f, 0.06f, 0.1f, 0.38f);
+    gl.glEnable(GL_STENCIL_TEST);
+    gl.glStencilFunc(GL_EQUAL, 1, 0xff);
+    gl.glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+    gl.glColor4f(0.05f, 0.06f, 0.1f, 0.38f);
     for (const Floor& f : floors) {
       if (f.normal.dot(light) <= 0.05)
         continue;  // light grazing or from below: no sensible shadow
@@ -303,43 +298,43 @@ struct Renderer::Impl {
         const BodyState& b = state.bodies[i];
         if (meshes[i].indices.empty() || f.normal.dot(b.position) + f.offset <= 0)
           continue;
-        glPushMatrix();
-        glMultMatrixd(shadow.data());
-        glMultMatrixd(pose_matrix(b.position, b.orientation).data());
+        gl.glPushMatrix();
+        gl.glMultMatrixd(shadow.data());
+        gl.glMultMatrixd(pose_matrix(b.position, b.orientation).data());
         draw_mesh(meshes[i]);
-        glPopMatrix();
+        gl.glPopMatrix();
       }
     }
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glEnable(GL_LIGHTING);
+    gl.glDisable(GL_STENCIL_TEST);
+    gl.glDisable(GL_POLYGON_OFFSET_FILL);
+    gl.glDepthMask(GL_TRUE);
+    gl.glDisable(GL_BLEND);
+    gl.glEnable(GL_LIGHTING);
   }
 
   void draw_bodies(const State& state) const {
-    glEnable(GL_CULL_FACE);
+    gl.glEnable(GL_CULL_FACE);
     for (std::size_t i = 0; i < meshes.size(); ++i) {
       if (meshes[i].indices.empty())
         continue;
       const BodyState& b = state.bodies[i];
       set_colour(body_colour(i, state));
-      glPushMatrix();
-      glMultMatrixd(pose_matrix(b.position, b.orientation).data());
+      gl.glPushMatrix();
+      gl.glMultMatrixd(pose_matrix(b.position, b.orientation).data());
       draw_mesh(meshes[i]);
-      glPopMatrix();
+      gl.glPopMatrix();
     }
-    glDisable(GL_CULL_FACE);
+    gl.glDisable(GL_CULL_FACE);
   }
 
   void draw_overlays(const Simulation& world) const {
     const State& state = world.state();
     const float s = static_cast<float>(settings.supersample);
-    glDisable(GL_LIGHTING);
-    glLineWidth(1.5f * s);
+    gl.glDisable(GL_LIGHTING);
+    gl.glLineWidth(1.5f * s);
     if (settings.has(Overlay::aabb)) {
       set_colour({1.0f, 0.85f, 0.1f});
-      glBegin(GL_LINES);
+      gl.glBegin(GL_LINES);
       for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
         if (!scene.bodies[i].shape.is_bounded())
           continue;
@@ -358,13 +353,13 @@ struct Renderer::Impl {
           }
         }
       }
-      glEnd();
+      gl.glEnd();
     }
     // Pairs and contacts show through bodies: they sit where surfaces meet.
-    glDisable(GL_DEPTH_TEST);
+    gl.glDisable(GL_DEPTH_TEST);
     if (settings.has(Overlay::pairs)) {
       set_colour({0.1f, 0.85f, 0.95f});
-      glBegin(GL_LINES);
+      gl.glBegin(GL_LINES);
       for (const ProxyPair& pair : world.candidate_pairs()) {
         Vec3 ends[2];
         const std::int32_t ids[2] = {pair.a, pair.b};
@@ -382,11 +377,11 @@ struct Renderer::Impl {
         vertex(ends[0]);
         vertex(ends[1]);
       }
-      glEnd();
+      gl.glEnd();
     }
     if (settings.has(Overlay::contacts)) {
       set_colour({0.15f, 0.85f, 0.2f});
-      glBegin(GL_LINES);
+      gl.glBegin(GL_LINES);
       for (const PairContact& pc : world.contacts()) {
         for (int k = 0; k < pc.manifold.count; ++k) {
           const Vec3& p = pc.manifold.points[k].position;
@@ -394,18 +389,18 @@ struct Renderer::Impl {
           vertex(p - arrow_length * pc.manifold.normal);
         }
       }
-      glEnd();
-      glPointSize(5 * s);
+      gl.glEnd();
+      gl.glPointSize(5 * s);
       set_colour({0.9f, 0.1f, 0.1f});
-      glBegin(GL_POINTS);
+      gl.glBegin(GL_POINTS);
       for (const PairContact& pc : world.contacts()) {
         for (int k = 0; k < pc.manifold.count; ++k)
           vertex(pc.manifold.points[k].position);
       }
-      glEnd();
+      gl.glEnd();
     }
-    glEnable(GL_DEPTH_TEST);
-    glEnable(GL_LIGHTING);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glEnable(GL_LIGHTING);
   }
 
   void update_stages(const Simulation& world) {
@@ -434,6 +429,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
                    std::span<const std::uint8_t> hidden)
     : impl_(std::make_unique<Impl>(scene, settings)) {
   Impl& m = *impl_;
+  const OsMesaLibrary& gl = m.gl;
   if (settings.width < 16 || settings.width > 8192 || settings.height < 16 ||
       settings.height > 8192) {
     throw std::invalid_argument("image size " + std::to_string(settings.width) + "x" +
@@ -492,12 +488,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
   m.near = std::clamp(distance * 0.01, 0.002, 1.0);
   m.far = distance + 4 * extent;
 
-  m.context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  m.context = gl.OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   if (m.context == nullptr)
     throw std::runtime_error("OSMesa could not create an off-screen OpenGL context");
-  if (!OSMesaMakeCurrent(m.context, m.buffer.data(), GL_UNSIGNED_BYTE, m.buffer_width,
-                         m.buffer_height)) {
-    OSMesaDestroyContext(m.context);
+  if (!gl.OSMesaMakeCurrent(m.context, m.buffer.data(), GL_UNSIGNED_BYTE, m.buffer_width,
+                            m.buffer_height)) {
+    gl.OSMesaDestroyContext(m.context);
     m.context = nullptr;
     throw std::runtime_error("OSMesa could not bind a " + std::to_string(m.buffer_width) + "x" +
                              std::to_string(m.buffer_height) + " buffer");
@@ -506,7 +502,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
 
 Renderer::~Renderer() {
   if (impl_ && impl_->context != nullptr)
-    OSMesaDestroyContext(impl_->context);
+    impl_->gl.OSMesaDestroyContext(impl_->context);
 }
 
 const Camera& Renderer::camera() const {
@@ -515,29 +511,30 @@ const Camera& Renderer::camera() const {
 
 void Renderer::render(const Simulation& world, Image& image) {
   Impl& m = *impl_;
-  if (!OSMesaMakeCurrent(m.context, m.buffer.data(), GL_UNSIGNED_BYTE, m.buffer_width,
-                         m.buffer_height)) {
+  const OsMesaLibrary& gl = m.gl;
+  if (!gl.OSMesaMakeCurrent(m.context, m.buffer.data(), GL_UNSIGNED_BYTE, m.buffer_width,
+                            m.buffer_height)) {
     throw std::runtime_error("OSMesa could not make its context current");
   }
   const State& state = world.state();
   if (m.settings.has(Overlay::stage))
     m.update_stages(world);
 
-  glViewport(0, 0, m.buffer_width, m.buffer_height);
-  glClearColor(kBackground[0], kBackground[1], kBackground[2], 1);
-  glClearStencil(0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LEQUAL);
-  glFrontFace(GL_CCW);
-  glCullFace(GL_BACK);
+  gl.glViewport(0, 0, m.buffer_width, m.buffer_height);
+  gl.glClearColor(kBackground[0], kBackground[1], kBackground[2], 1);
+  gl.glClearStencil(0);
+  gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  gl.glEnable(GL_DEPTH_TEST);
+  gl.glDepthFunc(GL_LEQUAL);
+  gl.glFrontFace(GL_CCW);
+  gl.glCullFace(GL_BACK);
 
-  glMatrixMode(GL_PROJECTION);
-  glLoadMatrixd(
+  gl.glMatrixMode(GL_PROJECTION);
+  gl.glLoadMatrixd(
       perspective(m.camera.fov, double(m.settings.width) / m.settings.height, m.near, m.far)
           .data());
-  glMatrixMode(GL_MODELVIEW);
-  glLoadMatrixd(look_at(m.camera.position, m.camera.target).data());
+  gl.glMatrixMode(GL_MODELVIEW);
+  gl.glLoadMatrixd(look_at(m.camera.position, m.camera.target).data());
 
   // One directional light with ambient; set after the view so its direction is in world space.
   const GLfloat light_direction[4] = {float(m.light.x()), float(m.light.y()), float(m.light.z()),
@@ -546,42 +543,42 @@ void Renderer::render(const Simulation& world, Image& image) {
   const GLfloat diffuse[4] = {0.72f, 0.72f, 0.70f, 1};
   const GLfloat specular[4] = {0.25f, 0.25f, 0.25f, 1};
   const GLfloat no_global_ambient[4] = {0, 0, 0, 1};
-  glLightModelfv(GL_LIGHT_MODEL_AMBIENT, no_global_ambient);
-  glLightfv(GL_LIGHT0, GL_POSITION, light_direction);
-  glLightfv(GL_LIGHT0, GL_AMBIENT, ambient);
-  glLightfv(GL_LIGHT0, GL_DIFFUSE, diffuse);
-  glLightfv(GL_LIGHT0, GL_SPECULAR, specular);
-  glEnable(GL_LIGHT0);
-  glEnable(GL_LIGHTING);
-  glEnable(GL_NORMALIZE);
-  glShadeModel(GL_SMOOTH);
-  glEnable(GL_COLOR_MATERIAL);
-  glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+  gl.glLightModelfv(GL_LIGHT_MODEL_AMBIENT, no_global_ambient);
+  gl.glLightfv(GL_LIGHT0, GL_POSITION, light_direction);
+  gl.glLightfv(GL_LIGHT0, GL_AMBIENT, ambient);
+  gl.glLightfv(GL_LIGHT0, GL_DIFFUSE, diffuse);
+  gl.glLightfv(GL_LIGHT0, GL_SPECULAR, specular);
+  gl.glEnable(GL_LIGHT0);
+  gl.glEnable(GL_LIGHTING);
+  gl.glEnable(GL_NORMALIZE);
+  gl.glShadeModel(GL_SMOOTH);
+  gl.glEnable(GL_COLOR_MATERIAL);
+  gl.glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
   const GLfloat material_specular[4] = {0.3f, 0.3f, 0.3f, 1};
-  glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, material_specular);
-  glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 24);
+  gl.glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, material_specular);
+  gl.glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 24);
 
   // The floor's far edge fades into the background.
   const Real distance = (m.camera.target - m.camera.position).norm();
   const GLfloat fog_colour[4] = {kBackground[0], kBackground[1], kBackground[2], 1};
-  glFogi(GL_FOG_MODE, GL_LINEAR);
-  glFogfv(GL_FOG_COLOR, fog_colour);
-  glFogf(GL_FOG_START, static_cast<float>(distance * 1.2));
-  glFogf(GL_FOG_END, static_cast<float>(distance * 3));
-  glEnable(GL_FOG);
+  gl.glFogi(GL_FOG_MODE, GL_LINEAR);
+  gl.glFogfv(GL_FOG_COLOR, fog_colour);
+  gl.glFogf(GL_FOG_START, static_cast<float>(distance * 1.2));
+  gl.glFogf(GL_FOG_END, static_cast<float>(distance * 3));
+  gl.glEnable(GL_FOG);
 
-  glEnableClientState(GL_VERTEX_ARRAY);
-  glEnableClientState(GL_NORMAL_ARRAY);
+  gl.glEnableClientState(GL_VERTEX_ARRAY);
+  gl.glEnableClientState(GL_NORMAL_ARRAY);
   m.draw_floors();
   if (m.settings.shadows)
     m.draw_shadows(state);
   m.draw_bodies(state);
-  glDisable(GL_FOG);
+  gl.glDisable(GL_FOG);
   if (m.settings.overlays != 0)
     m.draw_overlays(world);
-  glDisableClientState(GL_NORMAL_ARRAY);
-  glDisableClientState(GL_VERTEX_ARRAY);
-  glFinish();
+  gl.glDisableClientState(GL_NORMAL_ARRAY);
+  gl.glDisableClientState(GL_VERTEX_ARRAY);
+  gl.glFinish();
 
   // Box filter down to the output size; OSMesa's rows run bottom-up.
   const int s = m.settings.supersample;

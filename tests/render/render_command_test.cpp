@@ -138,6 +138,30 @@ TEST(RenderCommand, MissingFfmpegIsAClearError) {
   EXPECT_FALSE(fs::exists(dir / "x.mp4"));
 }
 
+// libOSMesa is loaded when a renderer is made (renders/osmesa_library.hpp): a machine without it
+// gets the library's name, its package and the loader's reason, and no video.
+TEST(RenderCommand, MissingOsMesaIsAClearError) {
+  const fs::path dir = scratch("no_osmesa");
+  const Result r = shell("TUMBLE_OSMESA_LIBRARY='" + (dir / "libOSMesa.so.8").string() + "' " +
+                         TUMBLE_CLI + " render " + write_scene(dir).string() +
+                         " -q --size 64x48 -o " + (dir / "x.mp4").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("libOSMesa.so.8 (Debian package libosmesa6"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find((dir / "libOSMesa.so.8").string()), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "x.mp4"));
+}
+
+// The command line does not link libOSMesa (nor the libLLVM it brings): its start-up costs every
+// command that never draws 0.1 to 0.25 s of symbol resolution (docs/reliability.md, "CI time").
+TEST(RenderCommand, TheCommandLineLoadsOsMesaOnlyToRender) {
+  const Result r = shell(std::string("ldd ") + TUMBLE_CLI);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("libstdc++"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("libOSMesa"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("libLLVM"), std::string::npos) << r.output;
+}
+
 TEST(RenderCommand, BadOptionsAreUserErrors) {
   const fs::path dir = scratch("bad");
   const std::string scene = write_scene(dir).string();
