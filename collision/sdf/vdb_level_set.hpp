@@ -12,7 +12,10 @@
 // band), with a zero gradient.
 //
 // OpenVDB is an optional component (the CMake option TUMBLE_WITH_OPENVDB): in a build without it,
-// available() is false and every way to make one throws tumble::Error saying so.
+// available() is false and every way to make one throws tumble::Error saying so. In a build with
+// it, OpenVDB's code is a module (libtumble_openvdb.so, collision/sdf/openvdb_module.hpp) loaded
+// when the first level set is read or built; without the module that throws tumble::Error with
+// the places it looked.
 #pragma once
 
 #include <array>
@@ -71,7 +74,7 @@ class VdbLevelSet {
   VdbLevelSet(const VdbLevelSet&) = delete;
   VdbLevelSet& operator=(const VdbLevelSet&) = delete;
 
-  struct Impl;  // OpenVDB's grid: only vdb_level_set.cpp sees OpenVDB's headers
+  struct Impl;  // the module's grid: only the module sees OpenVDB's headers
 
  private:
   explicit VdbLevelSet(std::unique_ptr<Impl> impl);
