@@ -425,11 +425,11 @@ std::string render_buffer_problem(const RenderSettings& settings) {
   return "";
 }
 
-Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
-                   std::span<const std::uint8_t> hidden)
-    : impl_(std::make_unique<Impl>(scene, settings)) {
-  Impl& m = *impl_;
-  const OsMesaLibrary& gl = m.gl;
+namespace {
+
+// The settings, once they are in range: checked before libOSMesa is loaded, so that a bad size
+// gets its own error on any machine.
+const RenderSettings& checked(const RenderSettings& settings) {
   if (settings.width < 16 || settings.width > 8192 || settings.height < 16 ||
       settings.height > 8192) {
     throw std::invalid_argument("image size " + std::to_string(settings.width) + "x" +
@@ -440,6 +440,16 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
   const std::string too_large = render_buffer_problem(settings);
   if (!too_large.empty())
     throw std::invalid_argument(too_large);
+  return settings;
+}
+
+}  // namespace
+
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings,
+                   std::span<const std::uint8_t> hidden)
+    : impl_(std::make_unique<Impl>(scene, checked(settings))) {
+  Impl& m = *impl_;
+  const OsMesaLibrary& gl = m.gl;
   m.buffer_width = settings.width * settings.supersample;
   m.buffer_height = settings.height * settings.supersample;
   m.buffer.resize(static_cast<std::size_t>(m.buffer_width) * m.buffer_height * 4);

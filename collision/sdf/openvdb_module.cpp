@@ -164,7 +164,7 @@ std::unique_ptr<Grid> from_mesh(std::span<const Vec3> vertices,
   return std::make_unique<OpenVdbGrid>(grid, max_active_voxels);
 }
 
-const Functions kFunctions{kInterfaceVersion, &load, &from_mesh};
+const Functions kFunctions{kInterface, &load, &from_mesh};
 
 }  // namespace
 }  // namespace tumble::openvdb_module

@@ -7,8 +7,9 @@
 // or not; a scene should pay only for what it uses. Only the module includes OpenVDB's headers.
 //
 // Both sides are built by the same build with the same compiler, so the boundary is plain C++
-// (an abstract class, std::unique_ptr, tumble::Error thrown through it); kInterfaceVersion
-// catches a module left over from another build.
+// (an abstract class, std::unique_ptr, tumble::Error thrown through it). kInterface, the SHA-256
+// of this header that the build computes (collision/CMakeLists.txt), keeps a module built from
+// another version of it from being used.
 #pragma once
 
 #include <array>
@@ -24,7 +25,7 @@
 
 namespace tumble::openvdb_module {
 
-constexpr int kInterfaceVersion = 1;
+constexpr const char* kInterface = TUMBLE_OPENVDB_INTERFACE;
 
 // The module's entry point, looked up by this name: `extern "C" const Functions*
 // tumble_openvdb_functions()`.
@@ -54,7 +55,7 @@ class Grid {
 };
 
 struct Functions {
-  int interface_version = 0;
+  const char* interface = nullptr;  // kInterface as the module was built
   // The first level set of floats or doubles in `file`, or the grid named `name`. Throws
   // tumble::Error (without the file's name: the caller adds it).
   std::unique_ptr<Grid> (*load)(const std::filesystem::path& file, const std::string& name,

@@ -7,10 +7,13 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -26,29 +29,51 @@ struct VdbLevelSet::Impl {
 
 namespace {
 
-// Where the module may be, in order: TUMBLE_OPENVDB_MODULE; beside the program or library that
-// holds this code, as `cmake --install` lays them out (libtumble.so in LIBDIR with the module in
-// LIBDIR/tumble, the tools in BINDIR, the Python module in its own folder with the module beside
-// it); the install prefix this build was configured with; and this build's own tree.
+// The file holding this code, absolute, or empty when it cannot be told. dladdr names a shared
+// library by the path it was loaded from, but the main program by argv[0], which may be a bare
+// name found on PATH or relative to the working directory: that one is /proc/self/exe. A path
+// from the working directory is never used, so a scene's folder cannot supply the module.
+std::filesystem::path file_holding_this_code() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&file_holding_this_code), &info) == 0 ||
+      info.dli_fname == nullptr || *info.dli_fname == '\0')
+    return {};
+  std::error_code failed;
+  std::filesystem::path file = info.dli_fname;
+  if (std::string_view(info.dli_fname) == program_invocation_name)
+    file = std::filesystem::read_symlink("/proc/self/exe", failed);
+  if (failed || !file.is_absolute())
+    return {};
+  return std::filesystem::weakly_canonical(file, failed);
+}
+
+// Where the module may be, in order. TUMBLE_OPENVDB_MODULE alone when set. For code in this
+// build's tree (its tests, tools and Python module), the tree's own module. Otherwise beside the
+// program or library that holds this code, as `cmake --install` lays them out (libtumble.so in
+// LIBDIR with the module in LIBDIR/tumble, the tools in BINDIR, the Python package in
+// LIBDIR/pythonX.Y/site-packages/tumble), then the install prefix this build was configured with.
 std::vector<std::filesystem::path> module_candidates() {
   std::vector<std::filesystem::path> paths;
   if (const char* chosen = std::getenv("TUMBLE_OPENVDB_MODULE"); chosen != nullptr && *chosen) {
     paths.emplace_back(chosen);
     return paths;
   }
+  const std::filesystem::path holder = file_holding_this_code();
+  const std::filesystem::path build_tree = TUMBLE_BUILD_TREE;
+  const auto [tree_end, holder_end] =
+      std::mismatch(build_tree.begin(), build_tree.end(), holder.begin(), holder.end());
+  if (!holder.empty() && tree_end == build_tree.end()) {
+    paths.emplace_back(TUMBLE_OPENVDB_MODULE_BUILT);
+    return paths;
+  }
   const std::filesystem::path name = TUMBLE_OPENVDB_MODULE_NAME;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<const void*>(&module_candidates), &info) != 0 &&
-      info.dli_fname != nullptr && *info.dli_fname != '\0') {
-    std::error_code ignored;
-    const std::filesystem::path here =
-        std::filesystem::weakly_canonical(info.dli_fname, ignored).parent_path();
-    paths.push_back(here / name);
+  if (!holder.empty()) {
+    const std::filesystem::path here = holder.parent_path();
     paths.push_back(here / "tumble" / name);
     paths.push_back(here / ".." / TUMBLE_INSTALL_LIBDIR / "tumble" / name);
+    paths.push_back(here / ".." / ".." / ".." / "tumble" / name);
   }
   paths.emplace_back(TUMBLE_OPENVDB_MODULE_INSTALLED);
-  paths.emplace_back(TUMBLE_OPENVDB_MODULE_BUILT);
   return paths;
 }
 
@@ -76,7 +101,8 @@ ModuleLoad load_module() {
     using Entry = const openvdb_module::Functions* (*)();
     const auto entry = reinterpret_cast<Entry>(dlsym(handle, openvdb_module::kEntryPoint));
     const openvdb_module::Functions* f = entry != nullptr ? entry() : nullptr;
-    if (f == nullptr || f->interface_version != openvdb_module::kInterfaceVersion) {
+    if (f == nullptr || f->interface == nullptr ||
+        std::string_view(f->interface) != openvdb_module::kInterface) {
       result.problem = path.string() + " is not this build's OpenVDB module (rebuild or reinstall)";
       return result;
     }

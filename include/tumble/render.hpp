@@ -27,7 +27,8 @@ const char* render_library_version();
 
 class FrameRenderer {
  public:
-  // Throws tumble::Error for sizes out of range or when OSMesa cannot make a context.
+  // Throws tumble::Error for sizes out of range, when libOSMesa cannot be loaded (it is loaded
+  // with the first renderer) or when OSMesa cannot make a context.
   explicit FrameRenderer(const World& world, const RenderOptions& options = {});
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;

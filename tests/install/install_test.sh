@@ -37,6 +37,19 @@ LD_LIBRARY_PATH=$prefix/lib "$work/first_program_pc" | tee "$work/pc.out"
 cmp "$work/cmake.out" "$work/pc.out"
 # The installed CLI runs a scene.
 "$prefix/bin/tumble" validate "$source/scenes/demo.yaml" >/dev/null
+# With OpenVDB, its module is installed, and the installed CLI, started from PATH in another
+# folder, loads the installed module (the dynamic loader's log names the file it opened), not the
+# build tree's.
+if [[ -e $build/lib/tumble/libtumble_openvdb.so ]]; then
+  [[ -e $prefix/lib/tumble/libtumble_openvdb.so ]] ||
+    { echo "not installed: lib/tumble/libtumble_openvdb.so"; exit 1; }
+  (cd "$work" && PATH=$prefix/bin:$PATH LD_DEBUG=files tumble validate \
+    "$source/scenes/sdf/things_in_level_set_bowls.yaml" >"$work/vdb.out" 2>&1) ||
+    { cat "$work/vdb.out"; exit 1; }
+  grep -q "file=$prefix/bin/../lib/tumble/libtumble_openvdb.so \[0\]; *dynamically loaded" \
+    "$work/vdb.out" || grep -q "file=$prefix/lib/tumble/libtumble_openvdb.so \[0\]; *dynamically loaded" \
+    "$work/vdb.out" || { grep libtumble_openvdb "$work/vdb.out"; echo "the installed module was not loaded"; exit 1; }
+fi
 # The installed Python package (when the build made one) imports from the prefix alone, with its
 # compiled module and its environments, and steps a batch.
 if [[ -d $build/python/tumble ]]; then
