@@ -1,7 +1,9 @@
 #include "engine/continuous_collision.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <utility>
 
 #include "collision/ccd/conservative_advancement.hpp"
 #include "collision/shapes/shape.hpp"
@@ -48,6 +50,32 @@ Aabb motion_box(const Shape& shape, const RigidMotion& m, Real radius) {
   box.grow(m.start().translation);
   box.grow(m.end().translation);
   return box.inflated(radius);
+}
+
+// Equal to the bit (NaN never equals, so a motion with NaN is always tested again).
+bool same_bits(Real x, Real y) {
+  return x == y && std::signbit(x) == std::signbit(y);
+}
+
+bool same_pose(const Transform& x, const Transform& y) {
+  for (int i = 0; i < 3; ++i) {
+    if (!same_bits(x.translation[i], y.translation[i]))
+      return false;
+  }
+  for (int i = 0; i < 4; ++i) {
+    if (!same_bits(x.rotation.coeffs()[i], y.rotation.coeffs()[i]))
+      return false;
+  }
+  return true;
+}
+
+// The same motion to the bit: its poses, kind, turn and speed bound (all a test reads).
+bool same_motion(const RigidMotion& x, const RigidMotion& y) {
+  return x.kind() == y.kind() && same_pose(x.start(), y.start()) && same_pose(x.end(), y.end()) &&
+         same_bits(x.centre_speed(), y.centre_speed()) &&
+         same_bits(x.angular_velocity().x(), y.angular_velocity().x()) &&
+         same_bits(x.angular_velocity().y(), y.angular_velocity().y()) &&
+         same_bits(x.angular_velocity().z(), y.angular_velocity().z());
 }
 
 }  // namespace
@@ -380,6 +408,17 @@ void ContinuousCollision::move_on(std::size_t b, std::vector<BodyState>& bodies,
   plan_from_[b] = time;
 }
 
+std::vector<ContinuousCollision::TestedPair>::iterator ContinuousCollision::find_tested(
+    std::int32_t a, std::int32_t b, std::size_t sorted) {
+  const auto end = tested_pairs_.begin() + std::ptrdiff_t(sorted);
+  const auto it =
+      std::lower_bound(tested_pairs_.begin(), end, std::pair{a, b},
+                       [](const TestedPair& x, const std::pair<std::int32_t, std::int32_t>& key) {
+                         return x.a < key.first || (x.a == key.first && x.b < key.second);
+                       });
+  return it != end && it->a == a && it->b == b ? it : tested_pairs_.end();
+}
+
 std::int32_t ContinuousCollision::group_root(std::int32_t c) {
   while (group_of_[std::size_t(c)] != c) {
     group_of_[std::size_t(c)] = group_of_[std::size_t(group_of_[std::size_t(c)])];
@@ -418,6 +457,7 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
   const Scene& scene = model.scene();
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   const Real dt = scene.world.dt;
+  tested_pairs_.clear();
   for (int round = 0; round < kMaxImpactRounds && !next_moving_on_.empty(); ++round) {
     ++counts.impact_rounds;
     moving_on_list_.swap(next_moving_on_);
@@ -434,8 +474,10 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
     // starts.
     round_pairs_.clear();
     const auto add_round_pair = [&](std::int32_t a, std::int32_t b) {
-      round_pairs_.push_back(
-          {a, b, std::max(plan_from_[std::size_t(a)], plan_from_[std::size_t(b)])});
+      RoundPair& p = round_pairs_.emplace_back();
+      p.a = a;
+      p.b = b;
+      p.from = std::max(plan_from_[std::size_t(a)], plan_from_[std::size_t(b)]);
     };
     entries_.clear();
     for (const std::int32_t a : moving_on_list_) {
@@ -473,19 +515,51 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
     });
     counts.candidate_pairs += static_cast<std::int64_t>(round_pairs_.size());
     tests_.assign(round_pairs_.size(), PairTest{});
+    for (std::size_t k = 0; k < round_pairs_.size(); ++k) {
+      RoundPair& p = round_pairs_[k];
+      p.motion_a = rest_of_motion(std::size_t(p.a), p.from);
+      p.motion_b = rest_of_motion(std::size_t(p.b), p.from);
+      const auto known = find_tested(p.a, p.b, tested_pairs_.size());
+      p.known = reuse_tests_ && known != tested_pairs_.end() && same_bits(known->from, p.from) &&
+                same_motion(known->motion_a, p.motion_a) &&
+                same_motion(known->motion_b, p.motion_b);
+      if (p.known) {
+        tests_[k] = known->test;
+        tests_[k].queries = 0;  // none run
+      }
+    }
     constexpr std::int32_t kPairsPerChunk = 16;
     runner.for_chunks(static_cast<std::int32_t>(round_pairs_.size()), kPairsPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
                         for (std::int32_t k = begin; k < end; ++k) {
                           const RoundPair& p = round_pairs_[std::size_t(k)];
+                          if (p.known)
+                            continue;
                           PairTest& t = tests_[std::size_t(k)];
                           t.a = p.a;
                           t.b = p.b;
-                          test_motions(scene, rest_of_motion(std::size_t(p.a), p.from),
-                                       rest_of_motion(std::size_t(p.b), p.from), true, t);
+                          test_motions(scene, p.motion_a, p.motion_b, true, t);
                           t.time = p.from + t.time * (1 - p.from);
                         }
                       });
+    const std::size_t tested_before = tested_pairs_.size();
+    for (std::size_t k = 0; k < round_pairs_.size(); ++k) {
+      const RoundPair& p = round_pairs_[k];
+      if (p.known)
+        continue;
+      const TestedPair tested{p.a, p.b, p.from, p.motion_a, p.motion_b, tests_[k]};
+      const auto known = find_tested(p.a, p.b, tested_before);
+      if (known != tested_pairs_.end())
+        *known = tested;
+      else
+        tested_pairs_.push_back(tested);
+    }
+    if (tested_pairs_.size() != tested_before) {
+      std::sort(tested_pairs_.begin(), tested_pairs_.end(),
+                [](const TestedPair& x, const TestedPair& y) {
+                  return x.a < y.a || (x.a == y.a && x.b < y.b);
+                });
+    }
     // Groups of bodies that may meet this round: joined by the pairs tested (immovable bodies
     // join nothing, their motion never changes). In each group only its first hit is taken:
     // what that impact changes may bring any member to an earlier meeting than the group's

@@ -101,6 +101,9 @@ class ContinuousCollision {
     every_pair,   // no pruning: every pair with a swept body is tested
   };
   void set_pair_search(PairSearch search) { pair_search_ = search; }
+  // Whether a round after an impact takes again a pair's earlier answer for the same motions
+  // (tested_pairs_). Either way gives bit-identical results; tests compare them.
+  void set_reuse_tests(bool reuse) { reuse_tests_ = reuse; }
 
  private:
   // The step's pairs to test, in the order found, and what each test found: they run on the
@@ -147,6 +150,7 @@ class ContinuousCollision {
   // Whether the last run finished (a run that threw may leave its scratch tables dirty).
   bool settled_ = false;
   PairSearch pair_search_ = PairSearch::automatic;
+  bool reuse_tests_ = true;
   std::vector<Real> thickness_;
   std::vector<Real> radius_;
   std::vector<Real> turning_radius_;  // how far a turn of one radian moves the space a body fills
@@ -177,10 +181,26 @@ class ContinuousCollision {
   std::vector<std::uint8_t> moved_on_;  // an impact set it moving this step
   std::vector<std::int32_t> moved_on_list_;
   struct RoundPair {
-    std::int32_t a = 0, b = 0;  // a is moving on; b may be too (then a < b)
-    Real from = 0;              // the step time both motions are tested from
+    std::int32_t a = 0, b = 0;       // a is moving on; b may be too (then a < b)
+    Real from = 0;                   // the step time both motions are tested from
+    RigidMotion motion_a, motion_b;  // what is left of each motion from `from` on
+    bool known = false;              // tested before with these motions (tested_pairs_)
   };
   std::vector<RoundPair> round_pairs_;
+  // Each pair's last test in this step's rounds, by (a, b), with the motions it was made for. A
+  // body waiting while its group's first hit is resolved keeps its motion, so round after round
+  // asks the same queries of it; a test is a function of the two motions, so its answer is
+  // taken again. (A fuzzed scene of overlapping fields asked 59% of its advancement iterations
+  // again.)
+  struct TestedPair {
+    std::int32_t a = 0, b = 0;
+    Real from = 0;
+    RigidMotion motion_a, motion_b;
+    PairTest test;
+  };
+  std::vector<TestedPair> tested_pairs_;  // sorted by (a, b)
+  // The entry of (a, b) among the first `sorted` of tested_pairs_ (those sorted), or its end.
+  std::vector<TestedPair>::iterator find_tested(std::int32_t a, std::int32_t b, std::size_t sorted);
   std::vector<std::uint32_t> round_order_;
   std::vector<Aabb> swept_boxes_;         // of swept bodies: the box of the whole motion
   std::vector<std::int32_t> swept_list_;  // swept bodies, ascending
