@@ -445,4 +445,73 @@ sdf::Sample SdfTree::sample_node(std::uint32_t i, const Vec3& world, Real time) 
   return s;
 }
 
+// sample_node's distances by the same operations in the same order, so the same bits: each
+// operation chooses or blends its operands by their distances alone.
+Real SdfTree::distance_node(std::uint32_t i, const Vec3& world, Real time) const {
+  const Flat& f = nodes_[i];
+  const Vec3 p = f.moved ? f.pose.apply_inverse(world) : world;
+  switch (f.kind) {
+    case SdfKind::sphere:
+      return sdf::sphere_distance(p, f.a);
+    case SdfKind::box:
+      return sdf::box_distance(p, f.half_extents);
+    case SdfKind::capsule:
+      return sdf::capsule_distance(p, f.a, f.b);
+    case SdfKind::cylinder:
+      return sdf::cylinder_distance(p, f.a, f.b);
+    case SdfKind::torus:
+      return sdf::torus_distance(p, f.a, f.b);
+    case SdfKind::plane:
+      return sdf::plane(p).distance;
+    case SdfKind::grid:
+    case SdfKind::neural:
+    case SdfKind::level_set:
+      return sample_node(i, world, time).distance;  // interpolated together with the gradient
+    case SdfKind::union_of:
+    case SdfKind::intersection_of: {
+      const Real side = f.kind == SdfKind::union_of ? Real(1) : Real(-1);
+      Real d = distance_node(f.first, p, time);
+      for (std::uint32_t c = 1; c < f.count; ++c) {
+        const Real o = distance_node(f.first + c, p, time);
+        if (side * o < side * d)
+          d = o;
+      }
+      return d;
+    }
+    case SdfKind::difference_of: {
+      Real d = distance_node(f.first, p, time);
+      for (std::uint32_t c = 1; c < f.count; ++c) {
+        const Real o = distance_node(f.first + c, p, time);
+        if (-o > d)
+          d = -o;
+      }
+      return d;
+    }
+    case SdfKind::morph: {
+      const Real w = std::clamp((time - f.a) / f.b, Real(0), Real(1));
+      if (w == 0)
+        return distance_node(f.first, p, time);
+      if (w == 1)
+        return distance_node(f.first + 1, p, time);
+      return (1 - w) * distance_node(f.first, p, time) + w * distance_node(f.first + 1, p, time);
+    }
+    case SdfKind::smooth_union_of: {
+      const Real k = f.a;
+      Real top = -std::numeric_limits<Real>::infinity();
+      Real sum = 0;
+      for (std::uint32_t c = 0; c < f.count; ++c) {
+        const Real e = -k * distance_node(f.first + c, p, time);
+        if (e > top) {
+          sum = sum * std::exp(top - e) + 1;
+          top = e;
+        } else {
+          sum += std::exp(e - top);
+        }
+      }
+      return -(top + std::log(sum)) / k;
+    }
+  }
+  return sample_node(i, world, time).distance;
+}
+
 }  // namespace tumble

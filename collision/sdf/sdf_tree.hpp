@@ -98,7 +98,8 @@ class SdfTree {
   // The signed distance at p (tree frame) and its gradient, at `time` (seconds; only a morph
   // depends on it).
   sdf::Sample sample(const Vec3& p, Real time = 0) const { return sample_node(0, p, time); }
-  Real distance(const Vec3& p, Real time = 0) const { return sample_node(0, p, time).distance; }
+  // The distance alone: the same bits as sample(p, time).distance, without the gradients.
+  Real distance(const Vec3& p, Real time = 0) const { return distance_node(0, p, time); }
   // Whether the field changes with time (it holds a morph), and the times it stops changing
   // between: before `changes_from()` and after `changes_until()` it is constant.
   bool changes_with_time() const { return changes_from_ < changes_until_; }
@@ -137,6 +138,7 @@ class SdfTree {
     GridInterpolation interpolation = GridInterpolation::tricubic;
   };
   sdf::Sample sample_node(std::uint32_t i, const Vec3& p, Real time) const;
+  Real distance_node(std::uint32_t i, const Vec3& p, Real time) const;
   void flatten(const SdfNode& node, std::uint32_t slot, const std::string& path, int depth);
   Aabb bounds_of(std::uint32_t i) const;
 

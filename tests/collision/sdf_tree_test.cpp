@@ -200,6 +200,30 @@ TEST(SdfTree, GradientsMatchCentralDifferencesOnRandomTrees) {
   std::printf("gradient check: %d points, %d within 1e-6 of a kink\n", total.points, total.kinks);
 }
 
+// distance() evaluates the tree without gradients (cheaper, for culling); it must give the
+// sample's distance to the bit, on random trees (and morphs of them) at points inside, on and
+// far outside, the tree's origin and z axis among them.
+TEST(SdfTree, TheDistanceAloneIsTheSamplesDistanceToTheBit) {
+  Rng rng(1203);
+  int points = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const SdfNode root = random_tree(rng, 3);
+    const bool morph = trial % 4 == 3;
+    const SdfTree tree(morph ? SdfNode::morph(root, random_tree(rng, 2), 0.5, 1.5) : root);
+    for (int i = 0; i < 40; ++i, ++points) {
+      const Vec3 p = i == 0   ? Vec3::Zero()
+                     : i == 1 ? Vec3(0, 0, uniform(rng, -1, 1))
+                              : random_vector_in_box(rng, i % 2 == 0 ? 1.5 : 40.0);
+      const Real t = uniform(rng, 0, 2);
+      const Real alone = tree.distance(p, t);
+      const Real sampled = tree.sample(p, t).distance;
+      ASSERT_TRUE(alone == sampled && std::signbit(alone) == std::signbit(sampled))
+          << "trial " << trial << " point " << i << ": " << alone << " against " << sampled;
+    }
+  }
+  EXPECT_EQ(points, 40000);
+}
+
 TEST(SdfTree, CsgGradientsAreUnitExceptTheSmoothUnionsBlend) {
   Rng rng(15);
   for (int trial = 0; trial < 500; ++trial) {

@@ -2,7 +2,8 @@
 // poses, combined by union, intersection, difference and smooth union to a fuzzed depth, sampled
 // at fuzzed points. A tree is built or refused with tumble::Error; a sample of a finite point is
 // finite, and its gradient is no longer than 1 (every primitive is 1-Lipschitz, and min, max and
-// the log-sum-exp keep that) and unit outside a lone primitive.
+// the log-sum-exp keep that) and unit outside a lone primitive; the distance alone (distance())
+// is the sample's to the bit.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -75,6 +76,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const sdf::Sample s = tree->sample(p);
     if (!std::isfinite(s.distance) || !s.gradient.allFinite())
       finding("a sample of a finite point is not finite");
+    const Real alone = tree->distance(p);
+    if (!(alone == s.distance && std::signbit(alone) == std::signbit(s.distance)))
+      finding("the distance alone is not the sample's distance");
     const Real g = s.gradient.norm();
     if (g > 1 + Real(1e-9))
       finding("gradient longer than 1");

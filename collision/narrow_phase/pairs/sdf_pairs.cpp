@@ -108,6 +108,15 @@ struct Surface {
     s.gradient = pose.rotate(s.gradient);
     return s;
   }
+  // As a partner (surface_points_against): the distance alone when no gradient is asked for
+  // (the gradient is then left at its default, and read by no one).
+  sdf::Sample sample(const Vec3& x, bool gradient) const {
+    if (gradient)
+      return sample(x);
+    sdf::Sample s;
+    s.distance = field->distance(pose.apply_inverse(x), time);
+    return s;
+  }
 };
 
 // A secant walk on the surface: from x on it, toward the point where the partner's distance is
@@ -630,7 +639,8 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
   RefineCounts refine_counts;
   // B's points in A's field: A is pushed along B's normal.
   surface_points_against(
-      surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin,
+      surface_b, overlap,
+      [&](const Vec3& x, bool gradient) { return surface_a.sample(x, gradient); }, margin,
       refine_counts,
       [&](const Vec3& x, const Vec3& n, const sdf::Sample& other, std::uint16_t id) {
         const Real depth = -other.distance;
@@ -638,7 +648,8 @@ int sdf_sdf(const Shape& a, const Transform& pose_a, const Shape& b, const Trans
       });
   // A's points in B's field: the point lies on A, pushed along B's gradient.
   surface_points_against(
-      surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin,
+      surface_a, overlap,
+      [&](const Vec3& x, bool gradient) { return surface_b.sample(x, gradient); }, margin,
       refine_counts,
       [&](const Vec3& x, const Vec3&, const sdf::Sample& other, std::uint16_t id) {
         collector.add(normalized_or(other.gradient, Vec3::UnitZ()), x, -other.distance,
@@ -682,9 +693,11 @@ FieldSeparation field_least_separation(const Shape& a, const Transform& pose_a, 
     // B's points in A's field (A pushed along B's normal), then A's points in B's field (A pushed
     // along B's gradient there, the opposite of A's surface normal that the walk turns to).
     least = least_surface_distance(
-        surface_b, overlap, [&](const Vec3& x, bool) { return surface_a.sample(x); }, margin);
+        surface_b, overlap,
+        [&](const Vec3& x, bool gradient) { return surface_a.sample(x, gradient); }, margin);
     FieldSeparation of_a = least_surface_distance(
-        surface_a, overlap, [&](const Vec3& x, bool) { return surface_b.sample(x); }, margin);
+        surface_a, overlap,
+        [&](const Vec3& x, bool gradient) { return surface_b.sample(x, gradient); }, margin);
     of_a.normal = -of_a.normal;
     if (of_a.distance < least.distance)
       least = of_a;
