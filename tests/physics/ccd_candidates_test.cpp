@@ -38,6 +38,17 @@ Vec3 random_unit(std::mt19937_64& rng) {
   }
 }
 
+// Where a body starting at its description's pose ends a step that moves it by `move` and turns
+// it by the rotation vector `turn`, with the velocities that carry it there.
+BodyState moved(const BodyDesc& b, const Vec3& move, const Vec3& turn, Real dt) {
+  BodyState e;
+  e.position = b.position + move;
+  e.orientation = (quaternion_from_rotation_vector(turn) * b.orientation).normalized();
+  e.velocity = move / dt;
+  e.angular_velocity = turn / dt;
+  return e;
+}
+
 Shape random_small_shape(std::mt19937_64& rng) {
   std::uniform_real_distribution<Real> size(0.03, 0.25);
   switch (rng() % 4) {
@@ -110,10 +121,7 @@ RandomCase make_case(std::mt19937_64& rng, CcdMode mode) {
         move = random_unit(rng) * (0.02 * unit(rng));
         turn = random_unit(rng) * (0.1 * unit(rng));
       }
-      e.position = b.position + move;
-      e.orientation = (quaternion_from_rotation_vector(turn) * b.orientation).normalized();
-      e.velocity = move / dt;
-      e.angular_velocity = turn / dt;
+      e = moved(b, move, turn, dt);
     }
     c.end.push_back(e);
   }
@@ -270,12 +278,7 @@ RandomCase overlapping_cluster(std::mt19937_64& rng) {
     c.start.push_back({b.position, b.orientation});
     const Vec3 move = random_unit(rng) * (2 * unit(rng));
     const Vec3 turn = random_unit(rng) * (100 * dt * unit(rng));
-    BodyState e;
-    e.position = b.position + move;
-    e.orientation = (quaternion_from_rotation_vector(turn) * b.orientation).normalized();
-    e.velocity = move / dt;
-    e.angular_velocity = turn / dt;
-    c.end.push_back(e);
+    c.end.push_back(moved(b, move, turn, dt));
   }
   return c;
 }
