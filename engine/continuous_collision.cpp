@@ -69,10 +69,10 @@ bool same_pose(const Transform& x, const Transform& y) {
   return true;
 }
 
-// The same motion to the bit: its poses, kind, turn and speed bound (all a test reads).
+// The same motion to the bit: its kind, poses and turn (the rest of a RigidMotion, its screw
+// velocity and centre speed, is computed from these).
 bool same_motion(const RigidMotion& x, const RigidMotion& y) {
   return x.kind() == y.kind() && same_pose(x.start(), y.start()) && same_pose(x.end(), y.end()) &&
-         same_bits(x.centre_speed(), y.centre_speed()) &&
          same_bits(x.angular_velocity().x(), y.angular_velocity().x()) &&
          same_bits(x.angular_velocity().y(), y.angular_velocity().y()) &&
          same_bits(x.angular_velocity().z(), y.angular_velocity().z());
@@ -515,27 +515,28 @@ void ContinuousCollision::sweep_on_after_impacts(const Model& model, const Broad
     });
     counts.candidate_pairs += static_cast<std::int64_t>(round_pairs_.size());
     tests_.assign(round_pairs_.size(), PairTest{});
-    for (std::size_t k = 0; k < round_pairs_.size(); ++k) {
-      RoundPair& p = round_pairs_[k];
-      p.motion_a = rest_of_motion(std::size_t(p.a), p.from);
-      p.motion_b = rest_of_motion(std::size_t(p.b), p.from);
-      const auto known = find_tested(p.a, p.b, tested_pairs_.size());
-      p.known = reuse_tests_ && known != tested_pairs_.end() && same_bits(known->from, p.from) &&
-                same_motion(known->motion_a, p.motion_a) &&
-                same_motion(known->motion_b, p.motion_b);
-      if (p.known) {
-        tests_[k] = known->test;
-        tests_[k].queries = 0;  // none run
-      }
-    }
+    // Each pair's rest of motions, and its earlier answer for the same ones if there is one
+    // (tested_pairs_ is only read here; it changes after the loop).
     constexpr std::int32_t kPairsPerChunk = 16;
     runner.for_chunks(static_cast<std::int32_t>(round_pairs_.size()), kPairsPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
                         for (std::int32_t k = begin; k < end; ++k) {
-                          const RoundPair& p = round_pairs_[std::size_t(k)];
-                          if (p.known)
-                            continue;
+                          RoundPair& p = round_pairs_[std::size_t(k)];
                           PairTest& t = tests_[std::size_t(k)];
+                          p.motion_a = rest_of_motion(std::size_t(p.a), p.from);
+                          p.motion_b = rest_of_motion(std::size_t(p.b), p.from);
+                          const auto known = reuse_tests_
+                                                 ? find_tested(p.a, p.b, tested_pairs_.size())
+                                                 : tested_pairs_.end();
+                          p.known = known != tested_pairs_.end() &&
+                                    same_bits(known->from, p.from) &&
+                                    same_motion(known->motion_a, p.motion_a) &&
+                                    same_motion(known->motion_b, p.motion_b);
+                          if (p.known) {
+                            t = known->test;
+                            t.queries = 0;  // none run
+                            continue;
+                          }
                           t.a = p.a;
                           t.b = p.b;
                           test_motions(scene, p.motion_a, p.motion_b, true, t);
