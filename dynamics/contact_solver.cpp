@@ -125,11 +125,15 @@ void ContactSolver::build(std::span<const PairContact> contacts,
                                 ? &previous[cursor]
                                 : nullptr;
   }
+  Gravity g;
+  g.present = gravity.squaredNorm() > 0;
+  g.down = g.present ? Vec3(gravity.normalized()) : Vec3::Zero();
+  g.magnitude = gravity.norm();
   for_chunks(static_cast<std::int32_t>(contacts.size()), kRecordsPerChunk,
              [&](std::int32_t begin, std::int32_t end) {
                for (std::int32_t c = begin; c < end; ++c)
                  build_record(contacts[std::size_t(c)], cached_of_contact_[std::size_t(c)], bodies,
-                              masses, inverse_inertia_world_, dt, gravity, records_[std::size_t(c)],
+                              masses, inverse_inertia_world_, dt, g, records_[std::size_t(c)],
                               loads_[std::size_t(c)]);
              });
 }
@@ -138,7 +142,7 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
                                  std::span<const BodyState> bodies,
                                  std::span<const BodyMass> masses,
                                  std::span<const Mat3> inverse_inertia_world, Real dt,
-                                 const Vec3& gravity, ManifoldRecord& m, ContactLoad& load) {
+                                 const Gravity& gravity, ManifoldRecord& m, ContactLoad& load) {
   // Every field the later stages read is written here, once: the record is not first reset to
   // its defaults (that reset, stored in small pieces and read back whole, stalled store
   // forwarding and was a quarter of the build). Points past `count`, the slots (pack) and the
@@ -192,16 +196,17 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     p.tangent_impulse1 = 0;
     p.tangent_impulse2 = 0;
     p.feature = cp.feature.key();
-    p.local_a = sa.orientation.conjugate() * r_a;
+    p.local_a = rotate_vector(sa.orientation.conjugate(), r_a);
   }
   // The load: what the warm start says the points carried, and at least the weight of the
   // body on top (the one the normal points up into) shared by the points, so that a heavy body
   // on a light one is known from the first step it touches (before a soft contact has sunk
   // under it). A light body on a heavy one loads the contact with its own weight only.
-  const Real up = gravity.squaredNorm() > 0 ? -m.normal.dot(gravity.normalized()) : Real(0);
+  const Real up = gravity.present ? -m.normal.dot(gravity.down) : Real(0);
   const Real upper_inverse_mass = up >= 0 ? m.inv_mass_a : m.inv_mass_b;  // n from B to A
   const Real upper = upper_inverse_mass == 0 ? Real(0) : 1 / upper_inverse_mass;
-  const Real weight_share = m.count > 0 ? gravity.norm() * std::abs(up) * upper / m.count : Real(0);
+  const Real weight_share =
+      m.count > 0 ? gravity.magnitude * std::abs(up) * upper / m.count : Real(0);
   if (cached != nullptr)
     warm_start_from(*cached, pc.match_distance, m);
   load = ContactLoad{};

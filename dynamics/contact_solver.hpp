@@ -217,11 +217,18 @@ class ContactSolver {
 
  private:
   static void warm_start_from(const CachedManifold& cached, Real match_distance, ManifoldRecord& m);
+  // Gravity as build_record reads it, worked out once per build (a square root and a division
+  // each, which every record waited on).
+  struct Gravity {
+    Real magnitude = 0;        // |g|
+    Vec3 down = Vec3::Zero();  // g / |g|
+    bool present = false;      // |g|^2 > 0
+  };
   // build()'s work for one contact.
   static void build_record(const PairContact& pc, const CachedManifold* cached,
                            std::span<const BodyState> bodies, std::span<const BodyMass> masses,
                            std::span<const Mat3> inverse_inertia_world, Real dt,
-                           const Vec3& gravity, ManifoldRecord& m, ContactLoad& load);
+                           const Gravity& gravity, ManifoldRecord& m, ContactLoad& load);
 
   struct Run {
     std::int32_t begin, end;  // bundles of one colour, or of the overflow (one pair each)

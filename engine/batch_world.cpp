@@ -4,6 +4,7 @@
 // shared arrays, so the results do not depend on which thread runs which world.
 #include "tumble/batch_world.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -57,6 +58,10 @@ struct BatchWorld::Impl {
   std::unique_ptr<ParallelRunner> runner;
   std::vector<Real> observations, forces, torques, targets, contact_forces;
   std::vector<std::uint8_t> target_set;
+  // Per world, the bodies [begin, end) that check_actions found with a load or a target: the
+  // step reads only those rows again (a second pass over every row of a large batch's action
+  // buffers missed the cache on all of them).
+  std::vector<std::int32_t> acted_begin, acted_end;
   std::vector<std::int32_t> contact_counts;
   std::vector<std::uint8_t> listed;  // reset_worlds' scratch: how often each world is listed
   // The scratch arrays the worlds' steps borrow (engine/step_workspace.hpp): one per step running
@@ -117,9 +122,17 @@ struct BatchWorld::Impl {
       const Real* x = row(targets, w, kTargetWidth);
       const std::uint8_t* set = target_set.data() + std::size_t(w) * std::size_t(bodies);
       const Real* o = row(observations, w, kObservationWidth);
+      std::int32_t& acted_from = acted_begin[std::size_t(w)];
+      std::int32_t& acted_to = acted_end[std::size_t(w)];
+      acted_from = bodies;
+      acted_to = 0;
       for (int b = 0; b < bodies; ++b) {
         const Vec3 force(f[3 * b], f[3 * b + 1], f[3 * b + 2]);
         const Vec3 torque(t[3 * b], t[3 * b + 1], t[3 * b + 2]);
+        if (force != Vec3::Zero() || torque != Vec3::Zero() || set[b] != 0) {
+          acted_from = std::min(acted_from, b);
+          acted_to = b + 1;
+        }
         // NaN != 0 too, so a NaN lands here.
         if (force != Vec3::Zero() || torque != Vec3::Zero()) {
           if (model->is_fixed(std::size_t(b)))
@@ -166,8 +179,10 @@ struct BatchWorld::Impl {
       StepWorkspace& scratch;
       ~Borrowed() { batch.give_scratch(scratch); }  // also when a step throws
     } borrowed{*this, take_scratch()};
+    const int acted_from = acted_begin[std::size_t(w)];
+    const int acted_to = acted_end[std::size_t(w)];
     for (int k = 0; k < n; ++k) {
-      for (int b = 0; b < bodies; ++b) {
+      for (int b = acted_from; b < acted_to; ++b) {
         const Vec3 force(f[3 * b], f[3 * b + 1], f[3 * b + 2]);
         const Vec3 torque(t[3 * b], t[3 * b + 1], t[3 * b + 2]);
         if (force != Vec3::Zero())
@@ -269,6 +284,8 @@ BatchWorld::BatchWorld(std::shared_ptr<const Model> model, int num_worlds, int t
   m.torques.assign(rows * 3, 0);
   m.targets.assign(rows * kTargetWidth, 0);
   m.target_set.assign(rows, 0);
+  m.acted_begin.assign(std::size_t(num_worlds), 0);
+  m.acted_end.assign(std::size_t(num_worlds), 0);
   m.contact_forces.assign(rows * 3, 0);
   m.contact_counts.assign(rows, 0);
   set_threads(threads);

@@ -93,9 +93,9 @@ void ContinuousCollision::rebuild(const Scene& scene) {
   if (!settled_ || thickness_.size() != n) {
     // Each table cleared then sized: the same elements as a new one's, in the storage it has.
     const auto fresh = [n](auto&... tables) { (..., (tables.clear(), tables.resize(n))); };
-    fresh(thickness_, radius_, turning_radius_, about_own_axis_, swept_, earliest_, hit_partner_,
-          hit_normal_, motions_, plan_from_, move_time_, moving_on_, hit_this_round_, group_box_,
-          group_hit_, moved_on_, swept_boxes_);
+    fresh(thickness_, radius_, turning_radius_, about_own_axis_, gate_, gate_travel_, swept_,
+          earliest_, hit_partner_, hit_normal_, motions_, plan_from_, move_time_, moving_on_,
+          hit_this_round_, group_box_, group_hit_, moved_on_, swept_boxes_);
     group_of_.assign(n, -1);
     // The per-run lists are empty after a run that finished; one that threw may have left some.
     // The pair search chosen by set_pair_search is a setting, and stays.
@@ -122,6 +122,10 @@ void ContinuousCollision::rebuild(const Scene& scene) {
         d.shape.type == ShapeType::capsule || d.shape.type == ShapeType::cylinder ? 1 : 0;
     if (!d.is_static && scene.world.ccd != CcdMode::off)
       enabled_ = true;
+    gate_[i] = d.is_static || d.kinematic                 ? kNeverSwept
+               : scene.world.ccd == CcdMode::on || d.fast ? kAlwaysSwept
+                                                          : kSweptIfFar;
+    gate_travel_[i] = Real(0.5) * kAutoSweepFraction * thickness_[i];
   }
 }
 
@@ -134,13 +138,13 @@ void ContinuousCollision::rebuild(const Scene& scene) {
 // body's own axis is not more than the whole. Half the threshold leaves room for rounding.
 bool ContinuousCollision::may_sweep(const Scene& scene, const std::vector<Transform>& start,
                                     const std::vector<BodyState>& bodies) const {
-  const CcdMode mode = scene.world.ccd;
   const Real dt = scene.world.dt;
+  // The bodies' kinds come from a table of their own (rebuild): the scene's descriptions are large,
+  // and reading a flag of each missed the cache once per body.
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const BodyDesc& d = scene.bodies[i];
-    if (d.is_static || d.kinematic)
+    if (gate_[i] == kNeverSwept)
       continue;
-    if (mode == CcdMode::on || d.fast)
+    if (gate_[i] == kAlwaysSwept)
       return true;
     const BodyState& b = bodies[i];
     const Real relative_turn = (b.orientation * start[i].rotation.conjugate()).vec().norm();
@@ -148,7 +152,7 @@ bool ContinuousCollision::may_sweep(const Scene& scene, const std::vector<Transf
         2 * b.angular_velocity.norm() * dt + Real(M_PI) * std::min<Real>(relative_turn, 1);
     const Real travel_bound =
         (b.position - start[i].translation).norm() + turn_bound * turning_radius_[i];
-    if (!(travel_bound <= Real(0.5) * kAutoSweepFraction * thickness_[i]))
+    if (!(travel_bound <= gate_travel_[i]))
       return true;
   }
   return false;
@@ -167,6 +171,11 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
   const Real skin = std::max(scene.world.contact_margin, Real(1e-6));
   swept_list_.clear();
   moved_on_list_.clear();
+  // Only the stage below reads these tables, so a step that needs no sweep leaves them alone
+  // (clearing them cost a batch of small worlds more than the gate itself: a cache miss per table
+  // per world).
+  if (mode == CcdMode::off || !may_sweep(scene, start, bodies))
+    return counts;
   for (std::size_t i = 0; i < n; ++i) {
     swept_[i] = 0;
     earliest_[i] = 1;
@@ -175,8 +184,6 @@ ContinuousCollisionCounts ContinuousCollision::run(const Model& model,
     moving_on_[i] = 0;
     moved_on_[i] = 0;
   }
-  if (mode == CcdMode::off || !may_sweep(scene, start, bodies))
-    return counts;
   // The farthest any point of an unswept dynamic body moves in this step: its box in the broad
   // phase covers its start pose, so that box grown by this covers its whole motion.
   Real unswept_travel = 0;

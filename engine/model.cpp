@@ -71,6 +71,9 @@ void Model::derive() {
   masses_.clear();
   bounding_radii_.clear();
   flat_shape_.clear();
+  shape_type_.clear();
+  bounded_.clear();
+  material_.clear();
   motion_.clear();
   kinematic_.clear();
   masses_.reserve(n);
@@ -92,6 +95,9 @@ void Model::derive() {
     const ShapeType t = d.shape.type;
     flat_shape_.push_back(t == ShapeType::box || t == ShapeType::plane || t == ShapeType::hull ||
                           t == ShapeType::mesh);
+    shape_type_.push_back(t);
+    bounded_.push_back(d.shape.is_bounded() ? 1 : 0);
+    material_.push_back(static_cast<std::int32_t>(d.material));
   }
   material_count_ = s.materials.size();
   friction_.resize(material_count_ * material_count_);

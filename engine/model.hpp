@@ -48,11 +48,22 @@ class Model {
   // over it as the body turns, so a point carried rigidly with the body would lag: only pairs of
   // flat-faced shapes recycle their manifolds.
   const std::vector<std::uint8_t>& flat_shape() const { return flat_shape_; }
+  // Each body's shape type, whether its shape is bounded, and its material: the descriptions'
+  // fields in tables of their own, for the stages that read them per pair per step (a batch's
+  // worlds missed the cache on each body's large description).
+  ShapeType shape_type(std::size_t body) const { return shape_type_[body]; }
+  bool is_bounded(std::size_t body) const { return bounded_[body] != 0; }
+  int material(std::size_t body) const { return material_[body]; }
   Motion motion(std::size_t body) const { return motion_[body]; }
   const std::vector<Motion>& motions() const { return motion_; }
   // Static, kinematic or removed: infinite mass, in no island, never integrated by the solver.
   bool is_fixed(std::size_t body) const { return motion_[body] != Motion::dynamic; }
   bool is_kinematic(std::size_t body) const { return motion_[body] == Motion::kinematic; }
+  // The description's `is_static` (a removed slot keeps a static description), from this compact
+  // table: a batch of worlds reads it per body per step, and the descriptions are large.
+  bool is_static(std::size_t body) const {
+    return motion_[body] == Motion::static_body || motion_[body] == Motion::removed;
+  }
   bool is_removed(std::size_t body) const { return motion_[body] == Motion::removed; }
   bool has_kinematic() const { return kinematic_count_ > 0; }
   // One flag per body, 1 for kinematic (the contact solver's view).
@@ -83,6 +94,9 @@ class Model {
   std::vector<BodyMass> masses_;
   std::vector<Real> bounding_radii_;
   std::vector<std::uint8_t> flat_shape_;
+  std::vector<ShapeType> shape_type_;
+  std::vector<std::uint8_t> bounded_;
+  std::vector<std::int32_t> material_;
   std::vector<Motion> motion_;
   std::vector<std::uint8_t> kinematic_;
   std::vector<std::uint8_t> removed_;  // per slot, 1 = removed (may be shorter: the rest are 0)

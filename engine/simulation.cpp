@@ -785,14 +785,15 @@ void Simulation::update_bounds(Real dt) {
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
     const BodyState& b = state_.bodies[i];
     shape_poses_[i] = pose_of(b);
-    if (scene_->bodies[i].is_static) {
+    const Motion motion = model_->motion(i);
+    if (motion == Motion::static_body || motion == Motion::removed) {
       speculative_margin_[i] = half_margin;
       continue;
     }
     Real reach =
         dt * (b.velocity.norm() + gravity_speed + b.angular_velocity.norm() * bounding_radii_[i]);
     // A kinematic body is not swept (nothing stops it), so its box covers its whole motion.
-    if (sweeps_ && !model_->is_kinematic(i))
+    if (sweeps_ && motion != Motion::kinematic)
       reach = std::min(reach, continuous_->sweep_threshold(i));
     speculative_margin_[i] = half_margin + reach;
     broad_phase_->update(
@@ -901,19 +902,19 @@ void Simulation::collide_candidate_pairs() {
   const auto margin_of = [&](const ProxyPair& pair) {
     return speculative_margin_[pair.a] + speculative_margin_[pair.b];
   };
+  // Types, bounds and materials from the model's tables, not the bodies' descriptions (a miss
+  // per body in a batch of small worlds).
+  const Model& model = *model_;
   const auto is_box_pair = [&](const ProxyPair& pair) {
-    return bodies[pair.a].shape.type == ShapeType::box &&
-           bodies[pair.b].shape.type == ShapeType::box;
+    return model.shape_type(pair.a) == ShapeType::box && model.shape_type(pair.b) == ShapeType::box;
   };
   const auto is_sphere_pair = [&](const ProxyPair& pair) {
-    return bodies[pair.a].shape.type == ShapeType::sphere &&
-           bodies[pair.b].shape.type == ShapeType::sphere;
+    return model.shape_type(pair.a) == ShapeType::sphere &&
+           model.shape_type(pair.b) == ShapeType::sphere;
   };
   const auto smaller_radius = [&](const ProxyPair& pair) {
-    const BodyDesc& a = bodies[pair.a];
-    const BodyDesc& b = bodies[pair.b];
-    return std::min(a.shape.is_bounded() ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
-                    b.shape.is_bounded() ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
+    return std::min(model.is_bounded(pair.a) ? bounding_radii_[pair.a] : bounding_radii_[pair.b],
+                    model.is_bounded(pair.b) ? bounding_radii_[pair.b] : bounding_radii_[pair.a]);
   };
   // What each candidate's manifold comes from: the kept manifold (its index in
   // state_.manifolds), or a fresh query (-1).
@@ -1028,14 +1029,14 @@ void Simulation::collide_candidate_pairs() {
             route = kRouteSphere;
           } else {
             route = kRouteOther;
-            if (bodies[pair.a].shape.type == ShapeType::hull &&
-                bodies[pair.b].shape.type == ShapeType::hull) {
+            if (model.shape_type(pair.a) == ShapeType::hull &&
+                model.shape_type(pair.b) == ShapeType::hull) {
               // Last step's separating direction of a hull pair, tried in the query loop below.
               const CachedHullAxis* cached = find_pair(hull_kept, hull_cursor, pair.a, pair.b);
               scratch_->candidate_is_hull_pair[i] = 1;
               scratch_->candidate_hull_axis[i] = cached != nullptr ? cached->axis : HullAxis{};
               route |= cached != nullptr ? kRouteAxisTried : 0;
-            } else if (collides_by_gjk(bodies[pair.a].shape.type, bodies[pair.b].shape.type)) {
+            } else if (collides_by_gjk(model.shape_type(pair.a), model.shape_type(pair.b))) {
               // Last step's separating axis of a pair GJK answers, if it has one.
               const PairGjkCache* cached = find_pair(gjk_kept, gjk_cursor, pair.a, pair.b);
               scratch_->candidate_uses_gjk[i] = 1;
@@ -1184,7 +1185,7 @@ void Simulation::collide_candidate_pairs() {
   // A body that can rest: static (its shape not changing), or asleep.
   const auto inactive = [&](std::int32_t b) {
     const std::size_t k = std::size_t(b);
-    return bodies[k].is_static ? field_changes_[k] == 0 : state_.asleep[k] != 0;
+    return model.is_static(k) ? field_changes_[k] == 0 : state_.asleep[k] != 0;
   };
   std::int64_t recycled = 0, resting = 0;
   std::int64_t sdf_refined = 0, sdf_refine_capped = 0;
@@ -1197,8 +1198,6 @@ void Simulation::collide_candidate_pairs() {
     if (scratch_->candidate_is_hull_pair[i] != 0 &&
         scratch_->candidate_hull_axis[i].direction_in_a.squaredNorm() > 0)
       scratch_->next_hull_axes.push_back({pair.a, pair.b, scratch_->candidate_hull_axis[i]});
-    const BodyDesc& a = bodies[pair.a];
-    const BodyDesc& b = bodies[pair.b];
     Manifold& manifold = scratch_->candidate_manifolds[i];
     const std::uint8_t route = scratch_->candidate_route[i];
     if ((route & kRouteResting) != 0) {
@@ -1222,23 +1221,22 @@ void Simulation::collide_candidate_pairs() {
     }
     if (manifold.count == 0)
       continue;
-    if (scratch_->candidate_kept[i] < 0 &&
-        (a.shape.type == ShapeType::sdf || b.shape.type == ShapeType::sdf)) {
+    if (scratch_->candidate_kept[i] < 0 && (model.shape_type(pair.a) == ShapeType::sdf ||
+                                            model.shape_type(pair.b) == ShapeType::sdf)) {
       sdf_refined += manifold.refined;
       sdf_refine_capped += manifold.refine_capped;
     }
-    PairContact pc;
-    pc.manifold = manifold;
-    pc.body_a = pair.a;
-    pc.body_b = pair.b;
-    const Material& ma = materials[a.material];
-    const Material& mb = materials[b.material];
-    pc.friction = model_->friction(a.material, b.material);
-    pc.restitution = model_->restitution(a.material, b.material);
+    const int material_a = model.material(pair.a);
+    const int material_b = model.material(pair.b);
+    const Material& ma = materials[std::size_t(material_a)];
+    const Material& mb = materials[std::size_t(material_b)];
+    // Made in place, the manifold copied once (a default PairContact, filled and then copied into
+    // the list, wrote each contact three times).
     // A twentieth of the smaller body's size: far below the spacing of distinct contact
     // points, far above the drift of one point between steps.
-    pc.match_distance = Real(0.05) * smaller_radius(pair);
-    contacts_.push_back(pc);
+    contacts_.emplace_back(pair.a, pair.b, model.friction(material_a, material_b),
+                           model.restitution(material_a, material_b),
+                           Real(0.05) * smaller_radius(pair), manifold);
     // The softer material sets the spring, the more damped one the damper: a rubber ball on
     // steel deforms like rubber.
     penalty_springs_.push_back(

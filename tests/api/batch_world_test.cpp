@@ -62,6 +62,41 @@ TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
   EXPECT_NE(one[0], one[1]);
 }
 
+// Loads on a few bodies of some worlds, none on others, changing from step to step (the step
+// reads again only the rows its check found loaded): every world is still its lone world.
+TEST(BatchWorld, SparseLoadsActOnTheirBodiesAlone) {
+  const int worlds = 5, steps = 30;
+  // Body b of world w is loaded at step s for about one (w, b, s) in four; a torque on another.
+  const auto loaded = [](int w, int b, int s) { return (3 * w + 5 * b + 7 * s) % 4 == 0; };
+  const auto turned = [](int w, int b, int s) { return (w + 2 * b + s) % 5 == 0; };
+  BatchWorld batch(pile(), worlds, 2);
+  const int bodies = batch.body_count();
+  for (int s = 0; s < steps; ++s) {
+    testing::write_batch_forces(
+        batch, [&](int w, int b) { return loaded(w, b, s) ? push(w, b, s) : Vec3::Zero(); });
+    std::span<Real> t = batch.torques();
+    for (int w = 0; w < worlds; ++w)
+      for (int b = 1; b < bodies; ++b)
+        t[std::size_t((w * bodies + b) * 3 + 2)] = turned(w, b, s) ? Real(3) : Real(0);
+    batch.step();
+  }
+  for (int w = 0; w < worlds; ++w) {
+    World lone(pile());
+    for (int s = 0; s < steps; ++s) {
+      for (const BodyId id : lone.bodies()) {
+        if (id.index == 0)
+          continue;
+        if (loaded(w, id.index, s))
+          lone.add_force(id, push(w, id.index, s));
+        if (turned(w, id.index, s))
+          lone.add_torque(id, Vec3(0, 0, 3));
+      }
+      lone.step();
+    }
+    EXPECT_EQ(lone.state_hash(), batch.state_hash(w)) << "world " << w;
+  }
+}
+
 TEST(BatchWorld, AResetWorldReplaysExactly) {
   BatchWorld batch(pile(), 3, 2);
   std::span<Real> f = batch.forces();
