@@ -1230,13 +1230,12 @@ void Simulation::collide_candidate_pairs() {
     const int material_b = model.material(pair.b);
     const Material& ma = materials[std::size_t(material_a)];
     const Material& mb = materials[std::size_t(material_b)];
-    // Made in place, the manifold copied once (a default PairContact, filled and then copied into
-    // the list, wrote each contact three times).
-    // A twentieth of the smaller body's size: far below the spacing of distinct contact
-    // points, far above the drift of one point between steps.
-    contacts_.emplace_back(pair.a, pair.b, model.friction(material_a, material_b),
-                           model.restitution(material_a, material_b),
-                           Real(0.05) * smaller_radius(pair), manifold);
+    // Made whole and then copied into the list (a default PairContact, filled and then copied,
+    // wrote each contact three times). A twentieth of the smaller body's size: far below the
+    // spacing of distinct contact points, far above the drift of one point between steps.
+    contacts_.push_back(PairContact{pair.a, pair.b, model.friction(material_a, material_b),
+                                    model.restitution(material_a, material_b),
+                                    Real(0.05) * smaller_radius(pair), manifold});
     // The softer material sets the spring, the more damped one the damper: a rubber ball on
     // steel deforms like rubber.
     penalty_springs_.push_back(
