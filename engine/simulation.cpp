@@ -746,28 +746,16 @@ void Simulation::integrate_velocities(int group, Real h) {
   });
 }
 
-// Calls update(bodies, count) with the awake bodies of substep group `group`, a chunk of the
-// group's list at a time, on the runner's threads (each call touches its bodies alone).
+// Calls update(bodies, count) with the awake bodies of substep group `group` (its list holds no
+// others: choose_substeps), a chunk of the group's list at a time, on the runner's threads (each
+// call touches its bodies alone; a run on one thread gets the whole list at once).
 template <class Update>
 void Simulation::for_each_awake_chunk(int group, const Update& update) {
   const std::int32_t first = group_body_start_[std::size_t(group)];
+  const std::int32_t* list = group_bodies_.data() + first;
   runner_->for_chunks(group_body_start_[std::size_t(group) + 1] - first, kBodiesPerChunk,
                       [&](std::int32_t begin, std::int32_t end) {
-                        // A run on one thread gets the whole range at once.
-                        std::int32_t awake[kBodiesPerChunk];
-                        int count = 0;
-                        for (std::int32_t k = first + begin; k < first + end; ++k) {
-                          const std::int32_t i = group_bodies_[std::size_t(k)];
-                          if (state_.asleep[std::size_t(i)] != 0)
-                            continue;
-                          awake[count++] = i;
-                          if (count == kBodiesPerChunk) {
-                            update(static_cast<const std::int32_t*>(awake), count);
-                            count = 0;
-                          }
-                        }
-                        if (count > 0)
-                          update(static_cast<const std::int32_t*>(awake), count);
+                        update(list + begin, static_cast<int>(end - begin));
                       });
 }
 
@@ -1278,7 +1266,7 @@ void Simulation::prepare_contacts() {
       group_settings_[0].substep = w.dt / penalty_substeps_;
       group_bodies_.clear();
       for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
-        if (!model_->is_fixed(i))
+        if (!model_->is_fixed(i) && state_.asleep[i] == 0)
           group_bodies_.push_back(static_cast<std::int32_t>(i));
       }
       group_body_start_.assign({0, static_cast<std::int32_t>(group_bodies_.size())});
@@ -1391,8 +1379,12 @@ void Simulation::choose_substeps() {
       const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
       const int weighed = level_for(per_substep * std::sqrt(load[c].weight / tolerance));
       weighed_level_[root] = std::max(weighed_level_[root], std::uint8_t(weighed));
+      // The same level again when the warm start carries no more than the weight (most resting
+      // contacts), without its square root.
       const int wanted =
-          level_for(per_substep * std::sqrt(std::max(load[c].weight, warm) / tolerance));
+          warm <= load[c].weight
+              ? weighed
+              : level_for(per_substep * std::sqrt(std::max(load[c].weight, warm) / tolerance));
       for (int level = 1; level <= wanted; ++level)
         ++contacts_wanting_[root * levels + std::size_t(level)];
     }
@@ -1438,8 +1430,12 @@ void Simulation::choose_substeps() {
     state_.substep_hold[i] = model_->is_fixed(i) ? 0 : hold_before_[root];
   }
   substeps_of_root_.assign(n, base);
-  for (std::size_t i = 0; i < n; ++i)
+  std::uint8_t top_needed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
     substeps_of_root_[i] = base << level_needed_[i];
+    if (root_of_[i] == std::int32_t(i))
+      top_needed = std::max(top_needed, level_needed_[i]);
+  }
 
   // Groups: one per distinct count, ascending from the base (group 0, always there).
   group_settings_.clear();
@@ -1468,7 +1464,9 @@ void Simulation::choose_substeps() {
   group_of(base);
   int most = base;
   // Visit the counts in ascending order so that group numbers do not depend on island order.
-  for (int substeps = 2 * base; substeps <= cap; substeps *= 2) {
+  // No root needs more than top_needed levels, so no larger count has islands.
+  for (int substeps = 2 * base; substeps <= cap && substeps <= (base << top_needed);
+       substeps *= 2) {
     for (std::size_t i = 0; i < n; ++i) {
       if (substeps_of_root_[i] == substeps && root_of_[i] == std::int32_t(i)) {
         group_of(substeps);
@@ -1494,8 +1492,10 @@ void Simulation::choose_substeps() {
   }
   const std::size_t groups = group_settings_.size();
   group_body_start_.assign(groups + 1, 0);
+  // The awake moving bodies only: nothing wakes or falls asleep during the substeps, so the lists
+  // the integration walks every substep are filtered here once.
   for (std::size_t i = 0; i < n; ++i) {
-    if (!model_->is_fixed(i))
+    if (!model_->is_fixed(i) && state_.asleep[i] == 0)
       ++group_body_start_[std::size_t(body_group(std::int32_t(i))) + 1];
   }
   for (std::size_t g = 0; g < groups; ++g)
@@ -1504,7 +1504,7 @@ void Simulation::choose_substeps() {
   std::vector<std::int32_t>& cursor = group_fill_;
   cursor.assign(group_body_start_.begin(), group_body_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!model_->is_fixed(i)) {
+    if (!model_->is_fixed(i) && state_.asleep[i] == 0) {
       const std::size_t g = std::size_t(body_group(std::int32_t(i)));
       group_bodies_[std::size_t(cursor[g]++)] = std::int32_t(i);
     }

@@ -221,7 +221,7 @@ class Simulation {
   // settings, its moving awake bodies, and each contact's group. Group 0 runs the scene's
   // `substeps` and holds the bodies that touch nothing.
   std::vector<ContactSolverSettings> group_settings_;
-  std::vector<std::int32_t> group_body_start_;  // group g's bodies: [start[g], start[g + 1])
+  std::vector<std::int32_t> group_body_start_;  // group g's awake bodies: [start[g], start[g + 1])
   std::vector<std::int32_t> group_bodies_;
   std::vector<std::int32_t> group_of_contact_;
   std::vector<std::int32_t> substeps_of_root_;  // per island root: its substeps this step
