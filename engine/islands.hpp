@@ -18,6 +18,8 @@ class Islands {
   void join(std::int32_t a, std::int32_t b);
   // The island's root body: the smallest index in it.
   std::int32_t root(std::int32_t body);
+  // Heap bytes held (capacity).
+  std::size_t bytes_reserved() const { return parent_.capacity() * sizeof(std::int32_t); }
 
  private:
   std::vector<std::int32_t> parent_;

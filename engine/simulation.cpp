@@ -141,7 +141,6 @@ Simulation::Simulation(std::shared_ptr<const Model> model)
   constexpr std::size_t kMostGroups = 11;
   group_settings_.reserve(kMostGroups);
   group_body_start_.reserve(kMostGroups + 1);
-  group_fill_.reserve(kMostGroups + 1);
   broad_phase_type_ = choose_broad_phase(model->scene().world.broadphase, model->scene());
   adopt(std::move(model));
   set_state(initial_state_);
@@ -156,9 +155,7 @@ void Simulation::adopt(std::shared_ptr<const Model> model) {
   bounding_radii_ = model_->bounding_radii();
   flat_shape_ = model_->flat_shape();
   const std::size_t n = scene_->bodies.size();
-  carries_.resize(n);
   speculative_margin_.resize(n);
-  shape_poses_.resize(n);
   force_.resize(n, Vec3::Zero());
   torque_.resize(n, Vec3::Zero());
   loaded_.resize(n, 0);
@@ -569,13 +566,15 @@ void Simulation::step(StepWorkspace& scratch) {
   const std::int64_t split_before = runner_->split_loops();
   runner_->run([this] { step_on_runner(); });
   last_step_.split_loops = runner_->split_loops() - split_before;
-  check_finite(state_, *scene_, shape_poses_);
+  check_finite(state_, *scene_, scratch_->shape_poses);
 }
 
 void Simulation::step_on_runner() {
   current_ = StepStatistics{};
   ticks_.begin();
   const WorldSettings& w = scene_->world;
+  scratch_->shape_poses.resize(state_.bodies.size());
+  scratch_->carries.resize(state_.bodies.size());
   start_kinematic_motion(w.dt);
   update_bounds(w.dt);
   find_candidate_pairs();
@@ -617,16 +616,17 @@ void Simulation::wake_touched_islands() {
     return;
   StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
-  islands_.reset(n);
+  Islands& islands = scratch_->islands;
+  islands.reset(n);
   const Model& model = *model_;
   for (const PairContact& pc : contacts_) {
     if (!model.is_fixed(std::size_t(pc.body_a)) && !model.is_fixed(std::size_t(pc.body_b)))
-      islands_.join(pc.body_a, pc.body_b);
+      islands.join(pc.body_a, pc.body_b);
   }
   island_awake_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!model.is_fixed(i) && state_.asleep[i] == 0)
-      island_awake_[islands_.root(static_cast<std::int32_t>(i))] = 1;
+      island_awake_[islands.root(static_cast<std::int32_t>(i))] = 1;
   }
   // A moving kinematic body, or a field changing with time this step, wakes what it touches.
   for (const PairContact& pc : contacts_) {
@@ -636,11 +636,11 @@ void Simulation::wake_touched_islands() {
       const bool moving = model.is_kinematic(std::size_t(k)) &&
                           (kb.velocity.squaredNorm() > 0 || kb.angular_velocity.squaredNorm() > 0);
       if ((moving || field_changing_now(k)) && !model.is_fixed(std::size_t(other)))
-        island_awake_[islands_.root(other)] = 1;
+        island_awake_[islands.root(other)] = 1;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (state_.asleep[i] != 0 && island_awake_[islands_.root(static_cast<std::int32_t>(i))]) {
+    if (state_.asleep[i] != 0 && island_awake_[islands.root(static_cast<std::int32_t>(i))]) {
       state_.asleep[i] = 0;
       state_.slow_time[i] = 0;
       sleepers_may_have_woken_ = true;
@@ -682,6 +682,7 @@ void Simulation::update_sleep(Real dt) {
   StageTimer timer(current_, ticks_, SolvePhase::islands_and_sleep);
   const std::size_t n = state_.bodies.size();
   const Model& model = *model_;
+  Islands& islands = scratch_->islands;  // this step's (wake_touched_islands, choose_substeps)
   island_slow_time_.assign(n, std::numeric_limits<Real>::infinity());
   for (std::size_t i = 0; i < n; ++i) {
     if (model.is_fixed(i) || state_.asleep[i] != 0)
@@ -689,13 +690,13 @@ void Simulation::update_sleep(Real dt) {
     const BodyState& b = state_.bodies[i];
     const Real speed = b.velocity.norm() + b.angular_velocity.norm() * bounding_radii_[i];
     state_.slow_time[i] = speed < w.sleep_speed ? state_.slow_time[i] + dt : Real(0);
-    Real& least = island_slow_time_[islands_.root(static_cast<std::int32_t>(i))];
+    Real& least = island_slow_time_[islands.root(static_cast<std::int32_t>(i))];
     least = std::min(least, state_.slow_time[i]);
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (model.is_fixed(i) || state_.asleep[i] != 0)
       continue;
-    if (island_slow_time_[islands_.root(static_cast<std::int32_t>(i))] >= w.sleep_time) {
+    if (island_slow_time_[islands.root(static_cast<std::int32_t>(i))] >= w.sleep_time) {
       state_.asleep[i] = 1;
       state_.bodies[i].velocity.setZero();
       state_.bodies[i].angular_velocity.setZero();
@@ -703,16 +704,16 @@ void Simulation::update_sleep(Real dt) {
   }
 }
 
-// Fast bodies are swept from their pose at the start of the step (shape_poses_, set by
-// update_bounds) to where the solver put them; the stage is reported as run only in steps where a
-// swept body had a candidate to be tested against.
+// Fast bodies are swept from their pose at the start of the step (the workspace's shape_poses, set
+// by update_bounds) to where the solver put them; the stage is reported as run only in steps where
+// a swept body had a candidate to be tested against.
 void Simulation::sweep_fast_bodies() {
   if (!sweeps_)
     return;
   const bool ran_before = current_.ran[static_cast<int>(Stage::continuous)];
   StageTimer timer(current_, ticks_, Stage::continuous);
-  const ContinuousCollisionCounts counts =
-      continuous_->run(*model_, shape_poses_, *broad_phase_, state_.bodies, masses_, *runner_);
+  const ContinuousCollisionCounts counts = continuous_->run(
+      *model_, scratch_->shape_poses, *broad_phase_, state_.bodies, masses_, *runner_);
   current_.swept_bodies += counts.swept_bodies;
   current_.ccd_candidate_pairs += counts.candidate_pairs;
   current_.stopped_bodies += counts.stopped_bodies;
@@ -726,7 +727,7 @@ void Simulation::integrate_velocities(int group, Real h) {
   VelocityIntegration in;
   in.states = state_.bodies.data();
   in.masses = masses_.data();
-  in.carries = carries_.data();
+  in.carries = scratch_->carries.data();
   in.gravity = scene_->world.gravity;
   in.loaded = loaded_.data();
   in.forces = force_.data();
@@ -772,7 +773,7 @@ void Simulation::update_bounds(Real dt) {
   const Real gravity_speed = scene_->world.gravity.norm() * dt;
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
     const BodyState& b = state_.bodies[i];
-    shape_poses_[i] = pose_of(b);
+    scratch_->shape_poses[i] = pose_of(b);
     const Motion motion = model_->motion(i);
     if (motion == Motion::static_body || motion == Motion::removed) {
       speculative_margin_[i] = half_margin;
@@ -784,9 +785,9 @@ void Simulation::update_bounds(Real dt) {
     if (sweeps_ && motion != Motion::kinematic)
       reach = std::min(reach, continuous_->sweep_threshold(i));
     speculative_margin_[i] = half_margin + reach;
-    broad_phase_->update(
-        static_cast<std::int32_t>(i),
-        world_aabb(scene_->bodies[i].shape, shape_poses_[i]).inflated(speculative_margin_[i]));
+    broad_phase_->update(static_cast<std::int32_t>(i),
+                         world_aabb(scene_->bodies[i].shape, scratch_->shape_poses[i])
+                             .inflated(speculative_margin_[i]));
   }
 }
 
@@ -878,6 +879,7 @@ bool Simulation::find_resting_bodies() {
 // (collide_box_pairs answers each as collide() does), sphere-sphere pairs through the sphere
 // batch (collide_sphere_pairs_dense, collide()'s bits), the rest pair by pair, in order.
 void Simulation::collide_candidate_pairs() {
+  const std::vector<Transform>& shape_poses = scratch_->shape_poses;
   StageTimer timer(current_, ticks_, Stage::narrow_phase);
   // The pass that sorts the candidates (recycling the kept manifolds as it goes) and the queries
   // of the rest are timed apart, so that recycled and recomputed pairs have each their cost.
@@ -991,7 +993,7 @@ void Simulation::collide_candidate_pairs() {
           const RecyclableManifold* manifold = find_pair(kept, cursor, pair.a, pair.b);
           if (w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b] &&
               manifold != nullptr &&
-              recycle_within_half_sine(*manifold, shape_poses_[pair.a], shape_poses_[pair.b],
+              recycle_within_half_sine(*manifold, shape_poses[pair.a], shape_poses[pair.b],
                                        kRecycleDistance * smaller_radius(pair), recycle_half_sine,
                                        scratch_->candidate_manifolds[i])) {
             scratch_->candidate_kept[i] = static_cast<std::int32_t>(manifold - kept.data());
@@ -1005,8 +1007,8 @@ void Simulation::collide_candidate_pairs() {
             if (const CachedBoxAxis* cached = find_pair(axes, axis_cursor, pair.a, pair.b)) {
               route |= kRouteAxisTried;
               const std::uint8_t axis = cached->axis;
-              if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                                     bodies[pair.b].shape.half_extents, shape_poses_[pair.b], axis,
+              if (box_axis_separates(bodies[pair.a].shape.half_extents, shape_poses[pair.a],
+                                     bodies[pair.b].shape.half_extents, shape_poses[pair.b], axis,
                                      margin_of(pair))) {
                 scratch_->candidate_axis[i] = axis;
                 scratch_->candidate_manifolds[i].count = 0;
@@ -1046,14 +1048,14 @@ void Simulation::collide_candidate_pairs() {
         break;
       case kRouteBoxQuery:
         axis_tries += (route & kRouteAxisTried) != 0;
-        scratch_->box_queries.push_back({bodies[pair.a].shape.half_extents, shape_poses_[pair.a],
-                                         bodies[pair.b].shape.half_extents, shape_poses_[pair.b],
+        scratch_->box_queries.push_back({bodies[pair.a].shape.half_extents, shape_poses[pair.a],
+                                         bodies[pair.b].shape.half_extents, shape_poses[pair.b],
                                          margin_of(pair)});
         scratch_->box_candidates.push_back(static_cast<std::int32_t>(i));
         break;
       case kRouteSphere: {
         for (const std::int32_t body : {pair.a, pair.b}) {
-          const Vec3& c = shape_poses_[std::size_t(body)].translation;
+          const Vec3& c = shape_poses[std::size_t(body)].translation;
           scratch_->sphere_x.push_back(c.x());
           scratch_->sphere_y.push_back(c.y());
           scratch_->sphere_z.push_back(c.z());
@@ -1105,29 +1107,29 @@ void Simulation::collide_candidate_pairs() {
             const ConvexHull& hull_a = *bodies[pair.a].shape.hull;
             const ConvexHull& hull_b = *bodies[pair.b].shape.hull;
             HullAxis& axis = scratch_->candidate_hull_axis[i];
-            if (hull_axis_separates(hull_a, shape_poses_[pair.a], hull_b, shape_poses_[pair.b],
-                                    axis, margin_of(pair))) {
+            if (hull_axis_separates(hull_a, shape_poses[pair.a], hull_b, shape_poses[pair.b], axis,
+                                    margin_of(pair))) {
               scratch_->candidate_manifolds[i] = Manifold{};
               scratch_->hull_hits[std::size_t(k)] = 1;
               continue;
             }
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
+            collide(bodies[pair.a].shape, shape_poses[pair.a], bodies[pair.b].shape,
+                    shape_poses[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
             axis = scratch_->candidate_manifolds[i].count == 0
-                       ? separating_hull_axis(hull_a, shape_poses_[pair.a], hull_b,
-                                              shape_poses_[pair.b], margin_of(pair))
+                       ? separating_hull_axis(hull_a, shape_poses[pair.a], hull_b,
+                                              shape_poses[pair.b], margin_of(pair))
                        : HullAxis{};
           } else if (scratch_->candidate_uses_gjk[i] != 0) {
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i],
+            collide(bodies[pair.a].shape, shape_poses[pair.a], bodies[pair.b].shape,
+                    shape_poses[pair.b], margin_of(pair), scratch_->candidate_manifolds[i],
                     scratch_->candidate_gjk[i]);
           } else if (field_changes_[std::size_t(pair.a)] | field_changes_[std::size_t(pair.b)]) {
             Shape timed_a, timed_b;
-            collide(shape_now(pair.a, timed_a), shape_poses_[pair.a], shape_now(pair.b, timed_b),
-                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
+            collide(shape_now(pair.a, timed_a), shape_poses[pair.a], shape_now(pair.b, timed_b),
+                    shape_poses[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
           } else {
-            collide(bodies[pair.a].shape, shape_poses_[pair.a], bodies[pair.b].shape,
-                    shape_poses_[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
+            collide(bodies[pair.a].shape, shape_poses[pair.a], bodies[pair.b].shape,
+                    shape_poses[pair.b], margin_of(pair), scratch_->candidate_manifolds[i]);
           }
         }
       });
@@ -1204,7 +1206,7 @@ void Simulation::collide_candidate_pairs() {
     } else {
       if (manifold.count > 0 && w.contact_recycling && flat_shape_[pair.a] && flat_shape_[pair.b]) {
         scratch_->next_manifolds.push_back(
-            make_recyclable(pair.a, pair.b, manifold, shape_poses_[pair.a], shape_poses_[pair.b]));
+            make_recyclable(pair.a, pair.b, manifold, shape_poses[pair.a], shape_poses[pair.b]));
       }
     }
     if (manifold.count == 0)
@@ -1301,6 +1303,17 @@ void Simulation::prepare_contacts() {
 // would sink a contact deeper than the sag tolerance doubles its substeps until it does not, up
 // to max_substeps. Islands with the same count form one group, solved together.
 void Simulation::choose_substeps() {
+  StepWorkspace& work = *scratch_;
+  Islands& islands = work.islands;
+  std::vector<std::int32_t>& root_of = work.root_of;
+  std::vector<std::int32_t>& substeps_of_root = work.substeps_of_root;
+  std::vector<std::int32_t>& group_of_root = work.group_of_root;
+  std::vector<std::int32_t>& contacts_wanting = work.contacts_wanting;
+  std::vector<std::uint8_t>& level_needed = work.level_needed;
+  std::vector<std::uint8_t>& level_before = work.level_before;
+  std::vector<std::uint8_t>& hold_before = work.hold_before;
+  std::vector<std::uint8_t>& weighed_level = work.weighed_level;
+  std::vector<Real>& island_mass = work.island_mass;
   const WorldSettings& w = scene_->world;
   const std::size_t n = state_.bodies.size();
   const int base = std::max(1, w.substeps);
@@ -1308,37 +1321,37 @@ void Simulation::choose_substeps() {
   int top_level = 0;
   while ((base << (top_level + 1)) <= cap)
     ++top_level;
-  islands_.reset(n);
+  islands.reset(n);
   for (const PairContact& pc : contacts_) {
     if (!model_->is_fixed(std::size_t(pc.body_a)) && !model_->is_fixed(std::size_t(pc.body_b)))
-      islands_.join(pc.body_a, pc.body_b);
+      islands.join(pc.body_a, pc.body_b);
   }
   // Each body's island root, found once: the loops below ask it several times per body.
-  root_of_.resize(n);
+  root_of.resize(n);
   for (std::size_t i = 0; i < n; ++i)
-    root_of_[i] = islands_.root(std::int32_t(i));
+    root_of[i] = islands.root(std::int32_t(i));
   // Per island root: the level its loads need now, the level it had, and its mass (a contact in
   // an island at rest carries at most the island's weight; more is an impact, which needs no
   // stiffer spring to hold it up).
-  level_needed_.assign(n, 0);
-  level_before_.assign(n, 0);
-  hold_before_.assign(n, 0);
-  island_mass_.assign(n, 0);
+  level_needed.assign(n, 0);
+  level_before.assign(n, 0);
+  hold_before.assign(n, 0);
+  island_mass.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (model_->is_fixed(i))
       continue;
-    const std::size_t root = std::size_t(root_of_[i]);
-    level_before_[root] = std::max(level_before_[root], state_.substep_level[i]);
-    hold_before_[root] = std::max(hold_before_[root], state_.substep_hold[i]);
+    const std::size_t root = std::size_t(root_of[i]);
+    level_before[root] = std::max(level_before[root], state_.substep_level[i]);
+    hold_before[root] = std::max(hold_before[root], state_.substep_hold[i]);
     if (masses_[i].inverse_mass > 0)
-      island_mass_[root] += 1 / masses_[i].inverse_mass;
+      island_mass[root] += 1 / masses_[i].inverse_mass;
   }
   // Per island root and level L (row root * levels): how many of its contacts need L or more
   // (column 0 counts every contact of the island), and the level the weights on its contacts
   // need.
   const std::size_t levels = std::size_t(top_level) + 1;
-  contacts_wanting_.assign(n * levels, 0);
-  weighed_level_.assign(n, 0);
+  contacts_wanting.assign(n * levels, 0);
+  weighed_level.assign(n, 0);
   const std::span<const ContactLoad> load = scratch_->solver.contact_loads();
   if (!w.contact_hertz) {
     constexpr Real kPi = std::numbers::pi_v<Real>;
@@ -1354,8 +1367,8 @@ void Simulation::choose_substeps() {
       const bool a_static = model_->is_fixed(std::size_t(pc.body_a));
       const bool b_static = model_->is_fixed(std::size_t(pc.body_b));
       const std::int32_t moving = a_static ? pc.body_b : pc.body_a;
-      const std::size_t root = std::size_t(root_of_[std::size_t(moving)]);
-      ++contacts_wanting_[root * levels];
+      const std::size_t root = std::size_t(root_of[std::size_t(moving)]);
+      ++contacts_wanting[root * levels];
       const Real radius = std::min(a_static ? bounding_radii_[std::size_t(pc.body_b)]
                                             : bounding_radii_[std::size_t(pc.body_a)],
                                    b_static ? bounding_radii_[std::size_t(pc.body_a)]
@@ -1373,12 +1386,12 @@ void Simulation::choose_substeps() {
           pc.manifold.normal.dot(sa.velocity + sa.angular_velocity.cross(p - sa.position) -
                                  sb.velocity - sb.angular_velocity.cross(p - sb.position));
       const bool resting = std::abs(approach) <= w.restitution_threshold;
-      const Real at_rest = gravity * island_mass_[root] * load[c].inverse_effective_mass;
+      const Real at_rest = gravity * island_mass[root] * load[c].inverse_effective_mass;
       const Real warm = resting ? std::min(load[c].warm, at_rest) : Real(0);
       // omega = 2 pi (substeps / dt) / 8 between moving bodies, / 4 against a static one.
       const Real per_substep = (a_static || b_static ? 2 : 4) * w.dt / kPi;
       const int weighed = level_for(per_substep * std::sqrt(load[c].weight / tolerance));
-      weighed_level_[root] = std::max(weighed_level_[root], std::uint8_t(weighed));
+      weighed_level[root] = std::max(weighed_level[root], std::uint8_t(weighed));
       // The same level again when the warm start carries no more than the weight (most resting
       // contacts), without its square root.
       const int wanted =
@@ -1386,7 +1399,7 @@ void Simulation::choose_substeps() {
               ? weighed
               : level_for(per_substep * std::sqrt(std::max(load[c].weight, warm) / tolerance));
       for (int level = 1; level <= wanted; ++level)
-        ++contacts_wanting_[root * levels + std::size_t(level)];
+        ++contacts_wanting[root * levels + std::size_t(level)];
     }
   }
   // An island takes the level that all its contacts but one in kSagOutliers find stiff enough
@@ -1396,45 +1409,45 @@ void Simulation::choose_substeps() {
   // heavy box on a light one in a large island).
   constexpr std::int32_t kSagOutliers = 100;
   for (std::size_t r = 0; r < n; ++r) {
-    const std::int32_t* wanting = &contacts_wanting_[r * levels];
+    const std::int32_t* wanting = &contacts_wanting[r * levels];
     const std::int32_t enough = 1 + wanting[0] / kSagOutliers;
     std::uint8_t wanted = 0;
     for (std::size_t level = 1; level < levels; ++level) {
       if (wanting[level] >= enough)
         wanted = std::uint8_t(level);
     }
-    level_needed_[r] = std::max(wanted, weighed_level_[r]);
+    level_needed[r] = std::max(wanted, weighed_level[r]);
   }
   // Up at once; down one level at a time, and only after kSubstepHold steps of needing less, so
   // that a load near a boundary does not switch the spring's stiffness back and forth (each
   // switch up pushes out the softer spring's sag, and that energy comes back as motion).
   constexpr std::uint8_t kSubstepHold = 30;
   for (std::size_t i = 0; i < n; ++i) {
-    if (root_of_[i] != std::int32_t(i))
+    if (root_of[i] != std::int32_t(i))
       continue;
-    std::uint8_t& level = level_needed_[i];
-    std::uint8_t& hold = hold_before_[i];
-    if (level >= level_before_[i]) {
+    std::uint8_t& level = level_needed[i];
+    std::uint8_t& hold = hold_before[i];
+    if (level >= level_before[i]) {
       hold = level > 0 ? kSubstepHold : 0;
     } else if (hold > 0) {
-      level = level_before_[i];
+      level = level_before[i];
       --hold;
     } else {
-      level = std::uint8_t(level_before_[i] - 1);
+      level = std::uint8_t(level_before[i] - 1);
       hold = level > 0 ? kSubstepHold : 0;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t root = std::size_t(root_of_[i]);
-    state_.substep_level[i] = model_->is_fixed(i) ? 0 : level_needed_[root];
-    state_.substep_hold[i] = model_->is_fixed(i) ? 0 : hold_before_[root];
+    const std::size_t root = std::size_t(root_of[i]);
+    state_.substep_level[i] = model_->is_fixed(i) ? 0 : level_needed[root];
+    state_.substep_hold[i] = model_->is_fixed(i) ? 0 : hold_before[root];
   }
-  substeps_of_root_.assign(n, base);
+  substeps_of_root.assign(n, base);
   std::uint8_t top_needed = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    substeps_of_root_[i] = base << level_needed_[i];
-    if (root_of_[i] == std::int32_t(i))
-      top_needed = std::max(top_needed, level_needed_[i]);
+    substeps_of_root[i] = base << level_needed[i];
+    if (root_of[i] == std::int32_t(i))
+      top_needed = std::max(top_needed, level_needed[i]);
   }
 
   // Groups: one per distinct count, ascending from the base (group 0, always there).
@@ -1468,7 +1481,7 @@ void Simulation::choose_substeps() {
   for (int substeps = 2 * base; substeps <= cap && substeps <= (base << top_needed);
        substeps *= 2) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (substeps_of_root_[i] == substeps && root_of_[i] == std::int32_t(i)) {
+      if (substeps_of_root[i] == substeps && root_of[i] == std::int32_t(i)) {
         group_of(substeps);
         most = substeps;
         break;
@@ -1476,12 +1489,12 @@ void Simulation::choose_substeps() {
     }
   }
   // Each root's group, looked up once per root (group_of searches the groups).
-  group_of_root_.assign(n, -1);
+  group_of_root.assign(n, -1);
   const auto body_group = [&](std::int32_t body) {
-    const std::size_t root = std::size_t(root_of_[std::size_t(body)]);
-    std::int32_t& group = group_of_root_[root];
+    const std::size_t root = std::size_t(root_of[std::size_t(body)]);
+    std::int32_t& group = group_of_root[root];
     if (group < 0)
-      group = group_of(substeps_of_root_[root]);
+      group = group_of(substeps_of_root[root]);
     return group;
   };
   group_of_contact_.resize(contacts_.size());
@@ -1501,7 +1514,7 @@ void Simulation::choose_substeps() {
   for (std::size_t g = 0; g < groups; ++g)
     group_body_start_[g + 1] += group_body_start_[g];
   group_bodies_.resize(std::size_t(group_body_start_[groups]));
-  std::vector<std::int32_t>& cursor = group_fill_;
+  std::vector<std::int32_t>& cursor = work.group_fill;
   cursor.assign(group_body_start_.begin(), group_body_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
     if (!model_->is_fixed(i) && state_.asleep[i] == 0) {
@@ -1588,7 +1601,7 @@ void Simulation::integrate_positions(int group, Real h) {
   StageTimer timer(current_, ticks_, Stage::integrate_positions);
   PositionIntegration in;
   in.states = state_.bodies.data();
-  in.carries = carries_.data();
+  in.carries = scratch_->carries.data();
   in.h = h;
   for_each_awake_chunk(group, [&](const std::int32_t* bodies, int count) {
     tumble::integrate_positions(in, bodies, count);
@@ -1602,12 +1615,9 @@ WorldMemory Simulation::memory() const {
   };
   m.body_bytes = bytes(state_.bodies) + bytes(state_.slow_time) + bytes(state_.asleep) +
                  bytes(state_.substep_level) + bytes(state_.substep_hold) +
-                 bytes(model_->masses()) + bytes(model_->bounding_radii()) + bytes(shape_poses_) +
-                 bytes(carries_) + bytes(speculative_margin_) + bytes(group_bodies_) +
-                 bytes(substeps_of_root_) + bytes(level_needed_) + bytes(level_before_) +
-                 bytes(hold_before_) + bytes(contacts_wanting_) + bytes(weighed_level_) +
-                 bytes(island_mass_) + bytes(island_awake_) + bytes(island_slow_time_) +
-                 bytes(rest_disturbed_) + bytes(rest_skips_);
+                 bytes(model_->masses()) + bytes(model_->bounding_radii()) +
+                 bytes(speculative_margin_) + bytes(group_bodies_) + bytes(island_awake_) +
+                 bytes(island_slow_time_) + bytes(rest_disturbed_) + bytes(rest_skips_);
   m.contact_bytes = bytes(state_.contacts) + bytes(state_.sleeping_contacts) +
                     bytes(state_.resting_touches) + bytes(state_.manifolds) +
                     bytes(state_.box_axes) + bytes(state_.gjk_caches) + bytes(state_.hull_axes) +

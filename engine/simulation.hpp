@@ -190,7 +190,6 @@ class Simulation {
   std::span<const BodyMass> masses_;
   std::span<const Real> bounding_radii_;
   std::span<const std::uint8_t> flat_shape_;  // recycles its manifolds (collide_candidate_pairs)
-  std::vector<Transform> shape_poses_;        // scratch, current pose per body
   // Loads for the next step: per body, its force and torque and whether it has any.
   std::vector<Vec3> force_;
   std::vector<Vec3> torque_;
@@ -210,7 +209,6 @@ class Simulation {
   std::unique_ptr<BroadPhase> broad_phase_;
 
   // Scratch kept across steps so that a step does not allocate once capacities settle.
-  std::vector<GyroscopicCarry> carries_;
   std::vector<Real> speculative_margin_;
   std::vector<ProxyPair> candidate_pairs_;
   std::vector<PairContact> contacts_;
@@ -224,18 +222,9 @@ class Simulation {
   std::vector<std::int32_t> group_body_start_;  // group g's awake bodies: [start[g], start[g + 1])
   std::vector<std::int32_t> group_bodies_;
   std::vector<std::int32_t> group_of_contact_;
-  std::vector<std::int32_t> substeps_of_root_;  // per island root: its substeps this step
-  std::vector<std::int32_t> root_of_;           // per body: its island's root this step
-  std::vector<std::int32_t> group_of_root_;     // per island root: its substep group, or -1
-  std::vector<std::int32_t> group_fill_;        // scratch
-  std::vector<std::uint8_t> level_needed_, level_before_, hold_before_;  // per island root
-  std::vector<std::int32_t> contacts_wanting_;  // per island root and substep level
-  std::vector<std::uint8_t> weighed_level_;     // per island root
-  std::vector<Real> island_mass_;
   PenaltySolver penalty_solver_;
   std::vector<PenaltyPair> penalty_springs_;  // one per contacts_ entry
   int penalty_substeps_ = 1;                  // fixed per scene (penalty_substeps())
-  Islands islands_;
   // Sleeping islands the narrow phase leaves out (find_resting_bodies): islands of the resting
   // touches, whether a body that does not rest meets one, and per body whether its resting pairs
   // are taken from State::resting_touches this step.

@@ -19,6 +19,8 @@
 #include "collision/narrow_phase/manifold_recycling.hpp"
 #include "collision/narrow_phase/sphere_batch.hpp"
 #include "dynamics/contact_solver.hpp"
+#include "dynamics/integrator.hpp"
+#include "engine/islands.hpp"
 #include "engine/state.hpp"
 
 namespace tumble {
@@ -54,6 +56,21 @@ struct StepWorkspace {
   std::vector<CachedHullAxis> next_hull_axes;
   std::vector<RestingTouch> next_resting_touches;
   ContactSolver solver;
+  // The stepper's own tables of the step (engine/simulation.cpp): each body's pose at the start
+  // of the step, the gyroscopic carry from the velocity to the position update, and the islands
+  // and substep levels choose_substeps works out: written and used up within the step, like the
+  // rest of the workspace, so a world no longer holds them.
+  std::vector<Transform> shape_poses;
+  std::vector<GyroscopicCarry> carries;
+  Islands islands;
+  std::vector<std::int32_t> root_of;           // per body: its island's root
+  std::vector<std::int32_t> substeps_of_root;  // per island root: its substeps
+  std::vector<std::int32_t> group_of_root;     // per island root: its substep group, or -1
+  std::vector<std::int32_t> group_fill;
+  std::vector<std::int32_t> contacts_wanting;  // per island root and substep level
+  std::vector<std::uint8_t> level_needed, level_before, hold_before;  // per island root
+  std::vector<std::uint8_t> weighed_level;                            // per island root
+  std::vector<Real> island_mass;                                      // per island root
 
   // Heap bytes held (capacities), for the benchmark's memory figures.
   std::size_t bytes_reserved() const;
