@@ -186,11 +186,21 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     // stalled the loads that followed them (a load spanning two stores is not forwarded).
     const Vec3 r_a = cp.position - sa.position;
     const Vec3 r_b = cp.position - sb.position;
-    const Vec3 rn_a = r_a.cross(m.normal);
-    const Vec3 rn_b = r_b.cross(m.normal);
     p.r_a = r_a;
     p.r_b = r_b;
-    p.normal_diagonal = inv_mass_sum + rn_a.dot(ia * rn_a) + rn_b.dot(ib * rn_b);
+    // A body of infinite mass has a zero inverse inertia, so its term is a zero added to a sum its
+    // partner's inverse mass makes positive: left out, with the same bits (most contacts of a
+    // world of small bodies are against the static ground).
+    Real diagonal = inv_mass_sum;
+    if (m.inv_mass_a != 0) {
+      const Vec3 rn_a = r_a.cross(m.normal);
+      diagonal = diagonal + rn_a.dot(ia * rn_a);
+    }
+    if (m.inv_mass_b != 0) {
+      const Vec3 rn_b = r_b.cross(m.normal);
+      diagonal = diagonal + rn_b.dot(ib * rn_b);
+    }
+    p.normal_diagonal = diagonal;
     p.base_separation = -cp.depth;
     p.normal_impulse = 0;
     p.tangent_impulse1 = 0;
