@@ -188,9 +188,9 @@ void ContactSolver::build_record(const PairContact& pc, const CachedManifold* ca
     const Vec3 r_b = cp.position - sb.position;
     p.r_a = r_a;
     p.r_b = r_b;
-    // A body of infinite mass has a zero inverse inertia, so its term is a zero added to a sum its
-    // partner's inverse mass makes positive: left out, with the same bits (most contacts of a
-    // world of small bodies are against the static ground).
+    // A body of infinite mass has a zero inverse inertia, so its term is a +-0 added to a sum that
+    // starts at the inverse masses' sum (positive, or +0), which it leaves unchanged: left out,
+    // with the same bits (most contacts of a world of small bodies are against the ground).
     Real diagonal = inv_mass_sum;
     if (m.inv_mass_a != 0) {
       const Vec3 rn_a = r_a.cross(m.normal);

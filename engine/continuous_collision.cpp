@@ -89,7 +89,8 @@ void ContinuousCollision::rebuild(const Scene& scene) {
   const std::size_t n = scene.bodies.size();
   // A run writes each per-run table before it reads it, except the grouping's, which it leaves
   // as a new table has them when it finishes: after a finished run over as many bodies, only the
-  // shapes' tables change (a reset in a batch of worlds then touches four tables, not all of them).
+  // shapes' tables change (a reset in a batch of worlds then touches the six per-body shape and
+  // gate tables, not all of them).
   if (!settled_ || thickness_.size() != n) {
     // Each table cleared then sized: the same elements as a new one's, in the storage it has.
     const auto fresh = [n](auto&... tables) { (..., (tables.clear(), tables.resize(n))); };
