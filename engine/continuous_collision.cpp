@@ -89,14 +89,14 @@ void ContinuousCollision::rebuild(const Scene& scene) {
   const std::size_t n = scene.bodies.size();
   // A run writes each per-run table before it reads it, except the grouping's, which it leaves
   // as a new table has them when it finishes: after a finished run over as many bodies, only the
-  // shapes' tables change (a reset in a batch of worlds then touches the six per-body shape and
+  // shapes' tables change (a reset in a batch of worlds then touches the five per-body shape and
   // gate tables, not all of them).
   if (!settled_ || thickness_.size() != n) {
     // Each table cleared then sized: the same elements as a new one's, in the storage it has.
     const auto fresh = [n](auto&... tables) { (..., (tables.clear(), tables.resize(n))); };
-    fresh(thickness_, radius_, turning_radius_, about_own_axis_, gate_, gate_travel_, swept_,
-          earliest_, hit_partner_, hit_normal_, motions_, plan_from_, move_time_, moving_on_,
-          hit_this_round_, group_box_, group_hit_, moved_on_, swept_boxes_);
+    fresh(thickness_, radius_, turning_radius_, about_own_axis_, gate_, swept_, earliest_,
+          hit_partner_, hit_normal_, motions_, plan_from_, move_time_, moving_on_, hit_this_round_,
+          group_box_, group_hit_, moved_on_, swept_boxes_);
     group_of_.assign(n, -1);
     // The per-run lists are empty after a run that finished; one that threw may have left some.
     // The pair search chosen by set_pair_search is a setting, and stays.
@@ -126,7 +126,6 @@ void ContinuousCollision::rebuild(const Scene& scene) {
     gate_[i] = d.is_static || d.kinematic                 ? kNeverSwept
                : scene.world.ccd == CcdMode::on || d.fast ? kAlwaysSwept
                                                           : kSweptIfFar;
-    gate_travel_[i] = Real(0.5) * kAutoSweepFraction * thickness_[i];
   }
 }
 
@@ -153,7 +152,7 @@ bool ContinuousCollision::may_sweep(const Scene& scene, const std::vector<Transf
         2 * b.angular_velocity.norm() * dt + Real(M_PI) * std::min<Real>(relative_turn, 1);
     const Real travel_bound =
         (b.position - start[i].translation).norm() + turn_bound * turning_radius_[i];
-    if (!(travel_bound <= gate_travel_[i]))
+    if (!(travel_bound <= Real(0.5) * kAutoSweepFraction * thickness_[i]))
       return true;
   }
   return false;

@@ -156,12 +156,11 @@ class ContinuousCollision {
   std::vector<Real> turning_radius_;  // how far a turn of one radian moves the space a body fills
   std::vector<std::uint8_t> about_own_axis_;  // 1: turning about local z moves none of it
   // may_sweep's view of each body: never swept (static or kinematic), always (`ccd: on`, or
-  // `fast`), or when its travel bound exceeds gate_travel_ (half the sweep threshold).
+  // `fast`), or when its travel bound exceeds half its sweep threshold.
   static constexpr std::uint8_t kNeverSwept = 0;
   static constexpr std::uint8_t kAlwaysSwept = 1;
   static constexpr std::uint8_t kSweptIfFar = 2;
   std::vector<std::uint8_t> gate_;
-  std::vector<Real> gate_travel_;
   std::vector<std::uint8_t> swept_;
   std::vector<Real> earliest_;
   // Of each swept body's earliest hit: the other body (the lower index among hits at the same

@@ -774,15 +774,14 @@ void Simulation::update_bounds(Real dt) {
   for (std::size_t i = 0; i < state_.bodies.size(); ++i) {
     const BodyState& b = state_.bodies[i];
     scratch_->shape_poses[i] = pose_of(b);
-    const Motion motion = model_->motion(i);
-    if (motion == Motion::static_body || motion == Motion::removed) {
+    if (model_->is_static(i)) {
       speculative_margin_[i] = half_margin;
       continue;
     }
     Real reach =
         dt * (b.velocity.norm() + gravity_speed + b.angular_velocity.norm() * bounding_radii_[i]);
     // A kinematic body is not swept (nothing stops it), so its box covers its whole motion.
-    if (sweeps_ && motion != Motion::kinematic)
+    if (sweeps_ && !model_->is_kinematic(i))
       reach = std::min(reach, continuous_->sweep_threshold(i));
     speculative_margin_[i] = half_margin + reach;
     broad_phase_->update(static_cast<std::int32_t>(i),
