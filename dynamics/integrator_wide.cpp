@@ -2,6 +2,7 @@
 // (collision/simd/lane_versions.inc), and the version this CPU runs.
 #include "dynamics/integrator_wide.hpp"
 
+#include <immintrin.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -27,6 +27,7 @@
 // machine gives the same bits. The versions differ only in speed.
 #include "collision/narrow_phase/box_batch.hpp"
 
+#include <immintrin.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
