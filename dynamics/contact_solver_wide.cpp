@@ -5,7 +5,9 @@
 #include <immintrin.h>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #include "collision/simd/lane_versions.hpp"
