@@ -403,14 +403,8 @@ void ContactSolver::warm_start_from(const CachedManifold& cached, Real match_dis
 void ContactSolver::load_velocities(int group, std::span<const BodyState> bodies) {
   const Group& g = groups_[std::size_t(group)];
   for_chunks(g.slot_end - g.slot_begin, kSlotsPerChunk, [&](std::int32_t begin, std::int32_t end) {
-    for (std::int32_t s = g.slot_begin + begin; s < g.slot_begin + end; ++s) {
-      const BodyState& b = bodies[std::size_t(body_of_slot_[std::size_t(s)])];
-      Velocity& v = velocities_[std::size_t(s)];
-      for (int c = 0; c < 3; ++c) {
-        v.v[c] = b.velocity[c];
-        v.w[c] = b.angular_velocity[c];
-      }
-    }
+    kernels_->load_velocities(bodies.data(), body_of_slot_.data(), g.slot_begin + begin,
+                              g.slot_begin + end, velocities_.data());
   });
 }
 

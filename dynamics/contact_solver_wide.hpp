@@ -32,6 +32,9 @@ struct WideKernels {
   void (*apply_restitution)(std::byte* bundles, int begin, int end,
                             ContactSolver::Velocity* velocities,
                             const ContactSolver::Coefficients& coefficients);
+  // Slots [begin, end) of `velocities` from their bodies (body_of_slot[slot]).
+  void (*load_velocities)(const BodyState* bodies, const std::int32_t* body_of_slot, int begin,
+                          int end, ContactSolver::Velocity* velocities);
 };
 
 // The table for this CPU: AVX-512 (8 lanes), AVX2 (4) or the SSE2 baseline (2).
