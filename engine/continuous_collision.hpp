@@ -42,6 +42,7 @@
 #include "dynamics/parallel_runner.hpp"
 
 #include "collision/broad_phase/broad_phase.hpp"
+#include "collision/cache_prefetch.hpp"
 #include "collision/ccd/rigid_motion.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "engine/model.hpp"
@@ -82,6 +83,14 @@ class ContinuousCollision {
   // moves less is not swept, so the discrete stages must cover that much motion themselves;
   // beyond it the sweep does, and the bounds stage needs to grow the body's box no further.
   Real sweep_threshold(std::size_t body) const { return kAutoSweepFraction * thickness_[body]; }
+
+  // Asks for what the gate of run() reads (collision/cache_prefetch.hpp).
+  void prefetch() const {
+    prefetch_object(*this);
+    prefetch_array(gate_);
+    prefetch_array(thickness_);
+    prefetch_array(turning_radius_);
+  }
 
   // `start` holds each body's pose at the start of the step, `bodies` the state after the
   // position integration (changed in place for stopped bodies), `broad_phase` every body's box

@@ -1607,6 +1607,29 @@ void Simulation::integrate_positions(int group, Real h) {
   });
 }
 
+// The arrays every step of a world of small bodies reads, in the order it first reads them.
+void Simulation::prefetch_arrays() const {
+  prefetch_array(state_.bodies);
+  prefetch_array(loaded_);
+  prefetch_array(has_target_);
+  prefetch_array(speculative_margin_);
+  if (broad_phase_)
+    broad_phase_->prefetch();
+  prefetch_array(candidate_pairs_);
+  prefetch_array(state_.manifolds);
+  prefetch_array(contacts_);
+  prefetch_array(state_.contacts);
+  prefetch_array(state_.slow_time);
+  prefetch_array(state_.asleep);
+  prefetch_array(state_.substep_level);
+  prefetch_array(state_.substep_hold);
+  prefetch_array(group_body_start_);
+  prefetch_array(group_bodies_);
+  prefetch_array(group_of_contact_);
+  if (continuous_)
+    continuous_->prefetch();
+}
+
 WorldMemory Simulation::memory() const {
   WorldMemory m;
   const auto bytes = [](const auto& v) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "collision/broad_phase/broad_phase.hpp"
+#include "collision/cache_prefetch.hpp"
 #include "collision/narrow_phase/box_batch.hpp"
 #include "collision/narrow_phase/manifold_recycling.hpp"
 #include "collision/narrow_phase/sphere_batch.hpp"
@@ -103,6 +104,12 @@ class Simulation {
   std::span<const PairContact> contacts() const { return contacts_; }
 
   WorldMemory memory() const;
+
+  // Ask for what the next step reads (collision/cache_prefetch.hpp), in two calls a step apart:
+  // the arrays' addresses are in this object, so it must arrive first. A batch asks for the
+  // object two worlds ahead and for the arrays one world ahead of the world it steps.
+  void prefetch_object() const { tumble::prefetch_object(*this); }
+  void prefetch_arrays() const;
 
   // The contact force on each body over the last step [N] (its contacts' impulses over dt), as
   // x, y, z per body, and the number of touching pairs it was in; both overwritten whole.

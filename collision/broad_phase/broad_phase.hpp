@@ -40,6 +40,10 @@ class BroadPhase {
   // t in [0, max_t], touches, ascending.
   virtual void ray_cast(const Vec3& origin, const Vec3& direction, Real max_t,
                         std::vector<std::int32_t>& out) const = 0;
+
+  // Asks for the structure's arrays ahead of a step that will read them
+  // (collision/cache_prefetch.hpp). A structure that does not say asks for nothing.
+  virtual void prefetch() const {}
 };
 
 // Slab test (Kay and Kajiya, "Ray tracing complex scenes", SIGGRAPH 1986): does the segment
