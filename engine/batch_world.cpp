@@ -1,7 +1,7 @@
 // tumble::BatchWorld (include/tumble/batch_world.hpp): one World per environment, each stepped on
 // one thread; the worlds are spread over the batch's threads (dynamics/parallel_runner.hpp, a
-// world per chunk). A world touches only its own rows of the
-// shared arrays, so the results do not depend on which thread runs which world.
+// range of worlds per chunk, stepped in order: step_range). A world touches only its own rows of
+// the shared arrays, so the results do not depend on which thread runs which world.
 #include "tumble/batch_world.hpp"
 
 #include <algorithm>
@@ -233,16 +233,16 @@ struct BatchWorld::Impl {
   }
 
   // Steps worlds [begin, end) in order on one thread. A large batch's worlds do not stay in the
-  // cache between their steps, so while a world steps, the next one's arrays are asked for, and
-  // the object that holds their addresses for the one after (Simulation::prefetch_arrays). Only
-  // worlds of this thread's range: another thread may be stepping the others, resizing their
-  // arrays.
+  // cache between their steps, so just before a world steps, the next one's arrays are asked for,
+  // and the object that holds their addresses for the one after
+  // (Simulation::prefetch_step_arrays). Only worlds of this thread's range: another thread may be
+  // stepping the others, resizing their arrays.
   void step_range(int begin, int end, int n) {
     for (int w = begin; w < end; ++w) {
       if (w + 2 < end)
-        worlds[std::size_t(w) + 2].simulation().prefetch_object();
+        worlds[std::size_t(w) + 2].simulation().prefetch_self();
       if (w + 1 < end)
-        worlds[std::size_t(w) + 1].simulation().prefetch_arrays();
+        worlds[std::size_t(w) + 1].simulation().prefetch_step_arrays();
       step_world(w, n);
     }
   }

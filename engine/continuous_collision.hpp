@@ -84,12 +84,11 @@ class ContinuousCollision {
   // beyond it the sweep does, and the bounds stage needs to grow the body's box no further.
   Real sweep_threshold(std::size_t body) const { return kAutoSweepFraction * thickness_[body]; }
 
-  // Asks for what the gate of run() reads (collision/cache_prefetch.hpp).
-  void prefetch() const {
-    prefetch_object(*this);
-    prefetch_array(gate_);
-    prefetch_array(thickness_);
-    prefetch_array(turning_radius_);
+  // Asks for the tables the gate of run() reads (collision/cache_prefetch.hpp).
+  void prefetch(CachePrefetch& requests) const {
+    requests.ask(gate_);
+    requests.ask(thickness_);
+    requests.ask(turning_radius_);
   }
 
   // `start` holds each body's pose at the start of the step, `bodies` the state after the

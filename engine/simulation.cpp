@@ -1608,26 +1608,27 @@ void Simulation::integrate_positions(int group, Real h) {
 }
 
 // The arrays every step of a world of small bodies reads, in the order it first reads them.
-void Simulation::prefetch_arrays() const {
-  prefetch_array(state_.bodies);
-  prefetch_array(loaded_);
-  prefetch_array(has_target_);
-  prefetch_array(speculative_margin_);
+void Simulation::prefetch_step_arrays() const {
+  CachePrefetch requests;
+  requests.ask(state_.bodies);
+  requests.ask(loaded_);
+  requests.ask(has_target_);
+  requests.ask(speculative_margin_);
   if (broad_phase_)
-    broad_phase_->prefetch();
-  prefetch_array(candidate_pairs_);
-  prefetch_array(state_.manifolds);
-  prefetch_array(contacts_);
-  prefetch_array(state_.contacts);
-  prefetch_array(state_.slow_time);
-  prefetch_array(state_.asleep);
-  prefetch_array(state_.substep_level);
-  prefetch_array(state_.substep_hold);
-  prefetch_array(group_body_start_);
-  prefetch_array(group_bodies_);
-  prefetch_array(group_of_contact_);
-  if (continuous_)
-    continuous_->prefetch();
+    broad_phase_->prefetch(requests);
+  requests.ask(candidate_pairs_);
+  requests.ask(state_.manifolds);
+  requests.ask(contacts_);
+  requests.ask(state_.contacts);
+  requests.ask(state_.slow_time);
+  requests.ask(state_.asleep);
+  requests.ask(state_.substep_level);
+  requests.ask(state_.substep_hold);
+  requests.ask(group_body_start_);
+  requests.ask(group_bodies_);
+  requests.ask(group_of_contact_);
+  if (sweeps_)
+    continuous_->prefetch(requests);
 }
 
 WorldMemory Simulation::memory() const {

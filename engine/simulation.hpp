@@ -108,8 +108,11 @@ class Simulation {
   // Ask for what the next step reads (collision/cache_prefetch.hpp), in two calls a step apart:
   // the arrays' addresses are in this object, so it must arrive first. A batch asks for the
   // object two worlds ahead and for the arrays one world ahead of the world it steps.
-  void prefetch_object() const { tumble::prefetch_object(*this); }
-  void prefetch_arrays() const;
+  void prefetch_self() const {
+    CachePrefetch requests;
+    requests.ask_object(*this);
+  }
+  void prefetch_step_arrays() const;
 
   // The contact force on each body over the last step [N] (its contacts' impulses over dt), as
   // x, y, z per body, and the number of touching pairs it was in; both overwritten whole.

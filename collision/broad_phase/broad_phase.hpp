@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "collision/aabb.hpp"
+#include "collision/cache_prefetch.hpp"
 #include "tumble/settings.hpp"
 
 namespace tumble {
@@ -43,7 +44,7 @@ class BroadPhase {
 
   // Asks for the structure's arrays ahead of a step that will read them
   // (collision/cache_prefetch.hpp). A structure that does not say asks for nothing.
-  virtual void prefetch() const {}
+  virtual void prefetch(CachePrefetch& /*requests*/) const {}
 };
 
 // Slab test (Kay and Kajiya, "Ray tracing complex scenes", SIGGRAPH 1986): does the segment

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "collision/broad_phase/broad_phase.hpp"
-#include "collision/cache_prefetch.hpp"
 
 namespace tumble {
 
@@ -18,7 +17,7 @@ class BruteForceBroadPhase final : public BroadPhase {
   void query(const Aabb& box, std::vector<std::int32_t>& out) const override;
   void ray_cast(const Vec3& origin, const Vec3& direction, Real max_t,
                 std::vector<std::int32_t>& out) const override;
-  void prefetch() const override { prefetch_array(proxies_); }
+  void prefetch(CachePrefetch& requests) const override { requests.ask(proxies_); }
 
  private:
   struct Proxy {
