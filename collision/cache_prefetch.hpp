@@ -39,6 +39,12 @@ class CachePrefetch {
     ask(v.data(), v.size() * sizeof(T));
   }
 
+  // Arrays in the order given, while the budget lasts.
+  template <class... Arrays>
+  void ask_each(const Arrays&... arrays) {
+    (ask(arrays), ...);
+  }
+
   template <class T>
   void ask_object(const T& object) {
     ask(&object, sizeof(T));

@@ -86,9 +86,7 @@ class ContinuousCollision {
 
   // Asks for the tables the gate of run() reads (collision/cache_prefetch.hpp).
   void prefetch(CachePrefetch& requests) const {
-    requests.ask(gate_);
-    requests.ask(thickness_);
-    requests.ask(turning_radius_);
+    requests.ask_each(gate_, thickness_, turning_radius_);
   }
 
   // `start` holds each body's pose at the start of the step, `bodies` the state after the

@@ -1610,23 +1610,12 @@ void Simulation::integrate_positions(int group, Real h) {
 // The arrays every step of a world of small bodies reads, in the order it first reads them.
 void Simulation::prefetch_step_arrays() const {
   CachePrefetch requests;
-  requests.ask(state_.bodies);
-  requests.ask(loaded_);
-  requests.ask(has_target_);
-  requests.ask(speculative_margin_);
+  requests.ask_each(state_.bodies, loaded_, has_target_, speculative_margin_);
   if (broad_phase_)
     broad_phase_->prefetch(requests);
-  requests.ask(candidate_pairs_);
-  requests.ask(state_.manifolds);
-  requests.ask(contacts_);
-  requests.ask(state_.contacts);
-  requests.ask(state_.slow_time);
-  requests.ask(state_.asleep);
-  requests.ask(state_.substep_level);
-  requests.ask(state_.substep_hold);
-  requests.ask(group_body_start_);
-  requests.ask(group_bodies_);
-  requests.ask(group_of_contact_);
+  requests.ask_each(candidate_pairs_, state_.manifolds, contacts_, state_.contacts,
+                    state_.slow_time, state_.asleep, state_.substep_level, state_.substep_hold,
+                    group_body_start_, group_bodies_, group_of_contact_);
   if (sweeps_)
     continuous_->prefetch(requests);
 }
