@@ -45,7 +45,7 @@ std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps) {
 
 TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
   // Enough worlds that two threads' ranges hold several each: a range steps its worlds in order,
-  // asking for the next one's arrays while one steps (BatchWorld::Impl::step_range).
+  // asking for the next one's arrays just before each steps (BatchWorld::Impl::step_range).
   const int worlds = 24, steps = 40;
   const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps);
   EXPECT_EQ(one, batch_hashes(2, worlds, steps));
