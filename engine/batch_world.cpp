@@ -64,9 +64,9 @@ struct BatchWorld::Impl {
   std::vector<std::int32_t> acted_begin, acted_end;
   std::vector<std::int32_t> contact_counts;
   std::vector<std::uint8_t> listed;  // reset_worlds' scratch: how often each world is listed
-  // The scratch arrays the worlds' steps borrow (engine/step_workspace.hpp): one per step running
-  // at once, so that the arrays stay in the cache of the thread that uses them, and a world
-  // holds only its state. Which one a world gets does not change its results.
+  // The scratch arrays the worlds' steps borrow (engine/step_workspace.hpp): one per range of
+  // worlds stepping at once, so that the arrays stay in the cache of the thread that uses them, and
+  // a world holds only its state. Which one a world gets does not change its results.
   std::vector<std::unique_ptr<StepWorkspace>> scratch;
   std::vector<StepWorkspace*> free_scratch;
   std::mutex scratch_mutex;
@@ -168,17 +168,12 @@ struct BatchWorld::Impl {
     }
   }
 
-  void step_world(int w, int n) {
+  void step_world(int w, int n, StepWorkspace& scratch) {
     Simulation& sim = worlds[std::size_t(w)].simulation();
     const Real* f = row(forces, w, 3);
     const Real* t = row(torques, w, 3);
     const Real* x = row(targets, w, kTargetWidth);
     std::uint8_t* set = target_set.data() + std::size_t(w) * std::size_t(bodies);
-    struct Borrowed {
-      Impl& batch;
-      StepWorkspace& scratch;
-      ~Borrowed() { batch.give_scratch(scratch); }  // also when a step throws
-    } borrowed{*this, take_scratch()};
     const int acted_from = acted_begin[std::size_t(w)];
     const int acted_to = acted_end[std::size_t(w)];
     for (int k = 0; k < n; ++k) {
@@ -196,7 +191,7 @@ struct BatchWorld::Impl {
           set[b] = 0;
         }
       }
-      sim.step(borrowed.scratch);
+      sim.step(scratch);
     }
     observe(w);
     sim.contact_forces(std::span(row(contact_forces, w, 3), std::size_t(bodies) * 3),
@@ -236,14 +231,20 @@ struct BatchWorld::Impl {
   // cache between their steps, so just before a world steps, the next one's arrays are asked for,
   // and the object that holds their addresses for the one after
   // (Simulation::prefetch_step_arrays). Only worlds of this thread's range: another thread may be
-  // stepping the others, resizing their arrays.
+  // stepping the others, resizing their arrays. The range borrows one workspace for all its worlds:
+  // borrowed per world, the pool's lock bounced between two threads' caches at every step.
   void step_range(int begin, int end, int n) {
+    struct Borrowed {
+      Impl& batch;
+      StepWorkspace& scratch;
+      ~Borrowed() { batch.give_scratch(scratch); }  // also when a step throws
+    } borrowed{*this, take_scratch()};
     for (int w = begin; w < end; ++w) {
       if (w + 2 < end)
         worlds[std::size_t(w) + 2].simulation().prefetch_self();
       if (w + 1 < end)
         worlds[std::size_t(w) + 1].simulation().prefetch_step_arrays();
-      step_world(w, n);
+      step_world(w, n, borrowed.scratch);
     }
   }
 
