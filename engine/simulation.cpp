@@ -575,12 +575,21 @@ void Simulation::step_on_runner() {
   const WorldSettings& w = scene_->world;
   scratch_->shape_poses.resize(state_.bodies.size());
   scratch_->carries.resize(state_.bodies.size());
+  // What a batch recorded for the world it steps next (prefetch_step_arrays), asked for a slice
+  // after each stage and each substep rather than in one burst (collision/cache_prefetch.hpp);
+  // nothing for a lone world.
+  CachePrefetch& next_world = scratch_->next_world;
+  constexpr std::size_t kLinesPerSlice = 48;
   start_kinematic_motion(w.dt);
   update_bounds(w.dt);
+  next_world.issue(kLinesPerSlice);
   find_candidate_pairs();
+  next_world.issue(kLinesPerSlice);
   collide_candidate_pairs();
+  next_world.issue(kLinesPerSlice);
   wake_touched_islands();
   prepare_contacts();
+  next_world.issue(kLinesPerSlice);
   for (int g = 0; g < static_cast<int>(group_settings_.size()); ++g) {
     const ContactSolverSettings& group = group_settings_[std::size_t(g)];
     for (int s = 0; s < group.substeps; ++s) {
@@ -589,8 +598,10 @@ void Simulation::step_on_runner() {
       integrate_positions(g, group.substep);
       move_kinematic_bodies(Real(s + 1) / Real(group.substeps), w.dt);
       relax_contacts(g);
+      next_world.issue(kLinesPerSlice);
     }
   }
+  next_world.issue_all();
   move_kinematic_bodies(1, w.dt);
   for (const std::int32_t i : kinematic_bodies_)
     has_target_[std::size_t(i)] = 0;
@@ -1608,8 +1619,7 @@ void Simulation::integrate_positions(int group, Real h) {
 }
 
 // The arrays every step of a world of small bodies reads, in the order it first reads them.
-void Simulation::prefetch_step_arrays() const {
-  CachePrefetch requests;
+void Simulation::prefetch_step_arrays(CachePrefetch& requests) const {
   requests.ask_each(state_.bodies, loaded_, has_target_, speculative_margin_);
   if (broad_phase_)
     broad_phase_->prefetch(requests);

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collision/cache_prefetch.hpp"
 #include "collision/narrow_phase/box_axis_cache.hpp"
 #include "collision/narrow_phase/box_batch.hpp"
 #include "collision/narrow_phase/gjk_epa/gjk.hpp"
@@ -71,6 +72,9 @@ struct StepWorkspace {
   std::vector<std::uint8_t> level_needed, level_before, hold_before;  // per island root
   std::vector<std::uint8_t> weighed_level;                            // per island root
   std::vector<Real> island_mass;                                      // per island root
+  // The lines of the world a batch steps next, recorded before this step and asked for during it
+  // (Simulation::prefetch_step_arrays); empty for a lone world. Holds no heap memory.
+  CachePrefetch next_world;
 
   // Heap bytes held (capacities), for the benchmark's memory figures.
   std::size_t bytes_reserved() const;

@@ -5,6 +5,8 @@
 #include <limits>
 #include <random>
 
+#include "collision/cache_prefetch.hpp"
+#include "engine/simulation.hpp"
 #include "tests/api/api_scenes.hpp"
 
 namespace tumble {
@@ -31,8 +33,21 @@ Vec3 push(int w, int b, int s) {
   return Vec3(u(random), u(random), u(random));
 }
 
-std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps) {
-  BatchWorld batch(pile(), worlds, threads);
+// Twenty boxes resting on the ground, apart: a world of twenty touching pairs, like an RL
+// environment's.
+std::shared_ptr<Scene> boxes_on_ground() {
+  std::vector<BodyDesc> bodies{ground()};
+  for (int k = 0; k < 20; ++k) {
+    std::string name = "b";
+    name += std::to_string(k);
+    bodies.push_back(box_at(name, Vec3(0.9 * (k % 5), 0.9 * (k / 5), 0.2), 0.2));
+  }
+  return scene_of(bodies);
+}
+
+std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps,
+                                        const std::shared_ptr<Scene>& scene = pile()) {
+  BatchWorld batch(scene, worlds, threads);
   for (int s = 0; s < steps; ++s) {
     testing::write_batch_forces(batch, [s](int w, int b) { return push(w, b, s); });
     batch.step();
@@ -44,8 +59,8 @@ std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps) {
 }
 
 TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
-  // Enough worlds that two threads' ranges hold several each: a range steps its worlds in order,
-  // asking for the next one's arrays just before each steps (BatchWorld::Impl::step_range).
+  // Enough worlds that two threads' ranges hold several each: a range steps its worlds in order
+  // (BatchWorld::Impl::step_range).
   const int worlds = 24, steps = 40;
   const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps);
   EXPECT_EQ(one, batch_hashes(2, worlds, steps));
@@ -61,6 +76,36 @@ TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
     EXPECT_EQ(lone.state_hash(), one[std::size_t(w)]) << "world " << w;
   }
   // The worlds were pushed differently, so they differ.
+  EXPECT_NE(one[0], one[1]);
+}
+
+// A batch too large to stay in the cache asks for each next world while the one before steps
+// (BatchWorld::Impl::worlds_leave_the_cache): every world is still its lone world, on one thread
+// and on two (where each thread records the lines of worlds of its own ranges only).
+TEST(BatchWorld, ABatchThatAsksAheadKeepsEveryWorldALoneWorld) {
+  const int steps = 4;
+  // Enough worlds that two threads' shares pass the cached bytes a thread, measured on a world
+  // that has stepped (its contact lists have grown).
+  BatchWorld probe(boxes_on_ground(), 1, 1);
+  for (int s = 0; s < steps; ++s)
+    probe.step();
+  const WorldMemory m = probe.world(0).simulation().memory();
+  const std::size_t per_world = m.body_bytes + m.contact_bytes;
+  const int worlds = int(2 * CachePrefetch::kWorldBytesCachedPerThread / per_world) + 64;
+  ASSERT_GT(per_world * std::size_t(worlds / 2), CachePrefetch::kWorldBytesCachedPerThread)
+      << worlds << " worlds of " << per_world << " bytes";
+  const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps, boxes_on_ground());
+  EXPECT_EQ(one, batch_hashes(2, worlds, steps, boxes_on_ground()));
+  for (int w = 0; w < worlds; w += worlds / 5) {
+    World lone(boxes_on_ground());
+    for (int s = 0; s < steps; ++s) {
+      for (const BodyId id : lone.bodies())
+        if (id.index > 0)
+          lone.add_force(id, push(w, id.index, s));
+      lone.step();
+    }
+    EXPECT_EQ(lone.state_hash(), one[std::size_t(w)]) << "world " << w;
+  }
   EXPECT_NE(one[0], one[1]);
 }
 
