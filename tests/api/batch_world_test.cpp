@@ -58,6 +58,18 @@ std::vector<std::uint64_t> batch_hashes(int threads, int worlds, int steps,
   return hashes;
 }
 
+// The state hash of a lone World of `scene` given world w's pushes for `steps` steps.
+std::uint64_t lone_world_hash(const std::shared_ptr<Scene>& scene, int w, int steps) {
+  World lone(scene);
+  for (int s = 0; s < steps; ++s) {
+    for (const BodyId id : lone.bodies())
+      if (id.index > 0)
+        lone.add_force(id, push(w, id.index, s));
+    lone.step();
+  }
+  return lone.state_hash();
+}
+
 TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
   // Enough worlds that two threads' ranges hold several each: a range steps its worlds in order
   // (BatchWorld::Impl::step_range).
@@ -65,16 +77,8 @@ TEST(BatchWorld, EachWorldIsALoneWorldOnAnyThreadCount) {
   const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps);
   EXPECT_EQ(one, batch_hashes(2, worlds, steps));
   EXPECT_EQ(one, batch_hashes(4, worlds, steps));
-  for (int w = 0; w < worlds; w += 3) {
-    World lone(pile());
-    for (int s = 0; s < steps; ++s) {
-      for (const BodyId id : lone.bodies())
-        if (id.index > 0)
-          lone.add_force(id, push(w, id.index, s));
-      lone.step();
-    }
-    EXPECT_EQ(lone.state_hash(), one[std::size_t(w)]) << "world " << w;
-  }
+  for (int w = 0; w < worlds; w += 3)
+    EXPECT_EQ(lone_world_hash(pile(), w, steps), one[std::size_t(w)]) << "world " << w;
   // The worlds were pushed differently, so they differ.
   EXPECT_NE(one[0], one[1]);
 }
@@ -96,16 +100,8 @@ TEST(BatchWorld, ABatchThatAsksAheadKeepsEveryWorldALoneWorld) {
       << worlds << " worlds of " << per_world << " bytes";
   const std::vector<std::uint64_t> one = batch_hashes(1, worlds, steps, boxes_on_ground());
   EXPECT_EQ(one, batch_hashes(2, worlds, steps, boxes_on_ground()));
-  for (int w = 0; w < worlds; w += worlds / 5) {
-    World lone(boxes_on_ground());
-    for (int s = 0; s < steps; ++s) {
-      for (const BodyId id : lone.bodies())
-        if (id.index > 0)
-          lone.add_force(id, push(w, id.index, s));
-      lone.step();
-    }
-    EXPECT_EQ(lone.state_hash(), one[std::size_t(w)]) << "world " << w;
-  }
+  for (int w = 0; w < worlds; w += worlds / 5)
+    EXPECT_EQ(lone_world_hash(boxes_on_ground(), w, steps), one[std::size_t(w)]) << "world " << w;
   EXPECT_NE(one[0], one[1]);
 }
 
