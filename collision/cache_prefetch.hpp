@@ -15,24 +15,35 @@ namespace tumble {
 // cache beside the one stepping, or the requests push out what this step still needs. Arrays
 // asked for after the budget is spent are left to the step's own misses.
 //
-// The lines are recorded, then asked for by issue(): all at once, or a slice at a time between
-// the stages of another world's step. Several hundred requests in one burst wait for the core's
-// few miss buffers, and the step that issued them waits with them (docs/rl.md, "How the rate
+// The lines are recorded (record), then asked for by issue(): all at once, or a slice at a time
+// between the stages of another world's step. Several hundred requests in one burst wait for the
+// core's few miss buffers, and the step that issued them waits with them (docs/rl.md, "How the rate
 // falls with the batch's size").
 class CachePrefetch {
  public:
   static constexpr std::size_t kBytesPerWorld = 64 * 1024;
-  // The bytes of small worlds a thread's caches keep between their steps, about: a batch whose
-  // worlds hold more a thread asks ahead, one whose worlds stay in the cache does not (the
-  // requests would only be work). On the AMD EPYC machine of docs/rl.md a boxes20 batch's rate
-  // began to fall between 7 and 10 MB of worlds a thread.
+  // The bytes of small worlds a thread's caches keep between their steps, about, counted as the
+  // capacities of the worlds' arrays (Simulation::memory): a batch whose worlds hold more than
+  // this per thread asks ahead; one whose worlds stay in the cache does not (the requests would
+  // only be work). On the AMD EPYC machine of docs/rl.md a boxes20 world holds about 34 KB so
+  // counted, so a thread of 256 such worlds or more asks ahead, one of 128 or fewer does not.
   static constexpr std::size_t kWorldBytesCachedPerThread = 8 << 20;
   static constexpr std::size_t kLineBytes = 64;
   // More arrays than a world's step reads; the ones past it are left to the step's own misses.
   static constexpr int kMaxRanges = 32;
 
+  // Asks at once for every cache line of `object`.
+  template <class T>
+  static void issue_now(const T& object) {
+    const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(&object);
+    for (std::uintptr_t line = begin / kLineBytes * kLineBytes; line < begin + sizeof(T);
+         line += kLineBytes)
+      __builtin_prefetch(reinterpret_cast<const void*>(line), /*read*/ 0,
+                         /*locality: the second-level hint*/ 2);
+  }
+
   // Records every cache line that bytes [data, data + bytes) touch, as far as the budget goes.
-  void ask(const void* data, std::size_t bytes) {
+  void record(const void* data, std::size_t bytes) {
     if (bytes == 0 || left_ == 0 || ranges_ == kMaxRanges)
       return;
     const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(data);
@@ -47,19 +58,14 @@ class CachePrefetch {
   }
 
   template <class T>
-  void ask(const std::vector<T>& v) {
-    ask(v.data(), v.size() * sizeof(T));
+  void record(const std::vector<T>& v) {
+    record(v.data(), v.size() * sizeof(T));
   }
 
   // Arrays in the order given, while the budget lasts.
   template <class... Arrays>
-  void ask_each(const Arrays&... arrays) {
-    (ask(arrays), ...);
-  }
-
-  template <class T>
-  void ask_object(const T& object) {
-    ask(&object, sizeof(T));
+  void record_each(const Arrays&... arrays) {
+    (record(arrays), ...);
   }
 
   // Asks the memory system for up to `lines` of the recorded lines not yet asked for, in the

@@ -230,17 +230,21 @@ struct BatchWorld::Impl {
   }
 
   // Steps worlds [begin, end) in order on one thread. A large batch's worlds do not stay in the
-  // cache between their steps, so while a world steps, the next one's arrays are asked for (its
-  // step asks for the lines recorded in the workspace a slice at a time), and just before it, the
-  // object that holds their addresses of the one after (Simulation::prefetch_step_arrays). Only
-  // worlds of this thread's range: another thread may be stepping the others, resizing their
-  // arrays. The range borrows one workspace for all its worlds: borrowed per world, the pool's lock
-  // bounced between two threads' caches at every step.
+  // cache between their steps, so before a world steps, the next one's arrays are recorded
+  // (Simulation::prefetch_step_arrays) and its step asks for them a slice at a time, and the
+  // object that holds the addresses of the one after that is asked for at once
+  // (Simulation::prefetch_self). Only worlds of this thread's range: another thread may be
+  // stepping the others, resizing their arrays. The range borrows one workspace for all its
+  // worlds: borrowed per world, the pool's lock bounced between two threads' caches at every step.
   void step_range(int begin, int end, int n) {
     struct Borrowed {
       Impl& batch;
       StepWorkspace& scratch;
-      ~Borrowed() { batch.give_scratch(scratch); }  // also when a step throws
+      // Also when a step throws; the requests of this range go with it.
+      ~Borrowed() {
+        scratch.next_world.clear();
+        batch.give_scratch(scratch);
+      }
     } borrowed{*this, take_scratch()};
     CachePrefetch& next_world = borrowed.scratch.next_world;
     for (int w = begin; w < end; ++w) {
@@ -251,13 +255,13 @@ struct BatchWorld::Impl {
         worlds[std::size_t(w) + 1].simulation().prefetch_step_arrays(next_world);
       step_world(w, n, borrowed.scratch);
     }
-    next_world.clear();
   }
 
   // Asking for the next world pays only where the worlds do not stay in the cache between their
-  // steps; where they do, the requests are only work. boxes20, against a batch that asked ahead
-  // at every size: 2% to 6% slower for 16 and 64 worlds on one thread; 4% to 8% faster for 1024
-  // on one thread and 5% on two (docs/rl.md, "The requests in slices").
+  // steps; where they do, the requests are only work: boxes20 asking ahead at every size was 2%
+  // to 6% slower for 16 and 64 worlds on one thread (docs/rl.md, "The requests in slices").
+  // Estimated from the first world's arrays, whose capacities only grow; once a batch asks ahead
+  // it goes on asking (ask_ahead), so that a world rebuilt by a reset does not switch it off.
   bool worlds_leave_the_cache() const {
     const WorldMemory m = worlds.front().simulation().memory();
     const std::size_t per_thread =
@@ -388,7 +392,7 @@ void BatchWorld::step(int n) {
   if (n == 0)
     return;
   impl_->check_actions();
-  impl_->ask_ahead = impl_->worlds_leave_the_cache();
+  impl_->ask_ahead = impl_->ask_ahead || impl_->worlds_leave_the_cache();
   impl_->for_world_ranges([&](int begin, int end) { impl_->step_range(begin, end, n); });
 }
 

@@ -84,9 +84,10 @@ class ContinuousCollision {
   // beyond it the sweep does, and the bounds stage needs to grow the body's box no further.
   Real sweep_threshold(std::size_t body) const { return kAutoSweepFraction * thickness_[body]; }
 
-  // Asks for the tables the gate of run() reads (collision/cache_prefetch.hpp).
+  // Records the tables the gate of run() reads, to be asked for ahead
+  // (collision/cache_prefetch.hpp).
   void prefetch(CachePrefetch& requests) const {
-    requests.ask_each(gate_, thickness_, turning_radius_);
+    requests.record_each(gate_, thickness_, turning_radius_);
   }
 
   // `start` holds each body's pose at the start of the step, `bodies` the state after the

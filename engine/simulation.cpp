@@ -580,6 +580,7 @@ void Simulation::step_on_runner() {
   // nothing for a lone world.
   CachePrefetch& next_world = scratch_->next_world;
   constexpr std::size_t kLinesPerSlice = 48;
+  current_.lines_asked_ahead = static_cast<std::int64_t>(next_world.pending_lines());
   start_kinematic_motion(w.dt);
   update_bounds(w.dt);
   next_world.issue(kLinesPerSlice);
@@ -1620,12 +1621,12 @@ void Simulation::integrate_positions(int group, Real h) {
 
 // The arrays every step of a world of small bodies reads, in the order it first reads them.
 void Simulation::prefetch_step_arrays(CachePrefetch& requests) const {
-  requests.ask_each(state_.bodies, loaded_, has_target_, speculative_margin_);
+  requests.record_each(state_.bodies, loaded_, has_target_, speculative_margin_);
   if (broad_phase_)
     broad_phase_->prefetch(requests);
-  requests.ask_each(candidate_pairs_, state_.manifolds, contacts_, state_.contacts,
-                    state_.slow_time, state_.asleep, state_.substep_level, state_.substep_hold,
-                    group_body_start_, group_bodies_, group_of_contact_);
+  requests.record_each(candidate_pairs_, state_.manifolds, contacts_, state_.contacts,
+                       state_.slow_time, state_.asleep, state_.substep_level, state_.substep_hold,
+                       group_body_start_, group_bodies_, group_of_contact_);
   if (sweeps_)
     continuous_->prefetch(requests);
 }

@@ -109,11 +109,7 @@ class Simulation {
   // the arrays' addresses are in this object, so it must arrive first. A batch asks for the
   // object two worlds ahead of the world it steps, and records the arrays of the one after it in
   // the workspace of the step, which asks for them a slice at a time between its stages.
-  void prefetch_self() const {
-    CachePrefetch requests;
-    requests.ask_object(*this);
-    requests.issue_all();
-  }
+  void prefetch_self() const { CachePrefetch::issue_now(*this); }
   void prefetch_step_arrays(CachePrefetch& requests) const;
 
   // The contact force on each body over the last step [N] (its contacts' impulses over dt), as

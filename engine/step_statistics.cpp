@@ -71,6 +71,7 @@ void StepStatistics::accumulate(const StepStatistics& o) {
   impact_rounds += o.impact_rounds;
   ccd_candidate_pairs += o.ccd_candidate_pairs;
   split_loops += o.split_loops;
+  lines_asked_ahead += o.lines_asked_ahead;
   max_substeps = std::max(max_substeps, o.max_substeps);
 }
 

@@ -70,6 +70,7 @@ struct StepStatistics {
   std::int64_t impact_rounds = 0;        // rounds that swept bodies on after impacts
   std::int64_t ccd_candidate_pairs = 0;  // pairs with a swept body whose motion boxes overlap
   std::int64_t split_loops = 0;          // loops of the step split over several threads
+  std::int64_t lines_asked_ahead = 0;    // cache lines of a batch's next world asked for
   int max_substeps = 0;                  // the most substeps any island took (the largest seen)
 
   void accumulate(const StepStatistics& other);

@@ -42,8 +42,8 @@ class BroadPhase {
   virtual void ray_cast(const Vec3& origin, const Vec3& direction, Real max_t,
                         std::vector<std::int32_t>& out) const = 0;
 
-  // Asks for the structure's arrays ahead of a step that will read them
-  // (collision/cache_prefetch.hpp). A structure that does not say asks for nothing.
+  // Records the structure's arrays, to be asked for ahead of a step that will read them
+  // (collision/cache_prefetch.hpp). A structure that does not say records nothing.
   virtual void prefetch(CachePrefetch& /*requests*/) const {}
 };
 

@@ -17,7 +17,7 @@ class BruteForceBroadPhase final : public BroadPhase {
   void query(const Aabb& box, std::vector<std::int32_t>& out) const override;
   void ray_cast(const Vec3& origin, const Vec3& direction, Real max_t,
                 std::vector<std::int32_t>& out) const override;
-  void prefetch(CachePrefetch& requests) const override { requests.ask(proxies_); }
+  void prefetch(CachePrefetch& requests) const override { requests.record(proxies_); }
 
  private:
   struct Proxy {

@@ -28,10 +28,10 @@ TEST(CachePrefetch, RecordsEveryLineAnArrayTouchesAndIssuesThemInSlices) {
   const auto base = reinterpret_cast<std::uintptr_t>(storage.data());
   const std::size_t offset = kLine - base % kLine + 17;  // 17 bytes into a line
   CachePrefetch requests;
-  requests.ask(storage.data() + offset, 100);       // 17..116: two lines
-  requests.ask(storage.data() + offset + 200, 64);  // 217..280: two lines
-  requests.ask(storage.data() + offset + 1000, 1);  // one line
-  requests.ask(storage.data() + offset + 2000, 0);  // none
+  requests.record(storage.data() + offset, 100);       // 17..116: two lines
+  requests.record(storage.data() + offset + 200, 64);  // 217..280: two lines
+  requests.record(storage.data() + offset + 1000, 1);  // one line
+  requests.record(storage.data() + offset + 2000, 0);  // none
   const std::uintptr_t start = base + offset;
   const std::size_t expected =
       lines_touched(start, 100) + lines_touched(start + 200, 64) + lines_touched(start + 1000, 1);
@@ -47,26 +47,28 @@ TEST(CachePrefetch, RecordsEveryLineAnArrayTouchesAndIssuesThemInSlices) {
   EXPECT_EQ(requests.pending_lines(), 0u);
   requests.clear();
   EXPECT_EQ(requests.pending_lines(), 0u);
-  requests.ask(storage.data() + offset, 100);
+  requests.record(storage.data() + offset, 100);
   EXPECT_EQ(requests.pending_lines(), 2u);
 }
 
 TEST(CachePrefetch, StopsAtItsBudgetAndRangeCount) {
-  std::vector<unsigned char> big(3 * CachePrefetch::kBytesPerWorld);
+  // One array that begins on a line: exactly the budget's lines.
+  std::vector<unsigned char> big(3 * CachePrefetch::kBytesPerWorld + kLine);
+  const auto base = reinterpret_cast<std::uintptr_t>(big.data());
+  unsigned char* aligned = big.data() + (kLine - base % kLine) % kLine;
   CachePrefetch requests;
-  requests.ask(big.data(), big.size());
+  requests.record(aligned, 2 * CachePrefetch::kBytesPerWorld);
   const std::size_t budget_lines = CachePrefetch::kBytesPerWorld / kLine;
-  // The budget counts bytes from the first line's start, so at most one more line than it holds.
-  EXPECT_GE(requests.pending_lines(), budget_lines);
-  EXPECT_LE(requests.pending_lines(), budget_lines + 1);
-  requests.ask(big.data(), 64);  // the budget is spent
-  EXPECT_LE(requests.pending_lines(), budget_lines + 1);
+  EXPECT_EQ(requests.pending_lines(), budget_lines);
+  requests.record(aligned, kLine);  // the budget is spent
+  EXPECT_EQ(requests.pending_lines(), budget_lines);
 
   CachePrefetch many;
-  std::vector<unsigned char> small(64 * (CachePrefetch::kMaxRanges + 8));
-  const auto line_of = [&](int k) { return small.data() + 64 * k; };
+  std::vector<unsigned char> small(kLine * (CachePrefetch::kMaxRanges + 9));
+  unsigned char* first =
+      small.data() + (kLine - reinterpret_cast<std::uintptr_t>(small.data()) % kLine) % kLine;
   for (int k = 0; k < CachePrefetch::kMaxRanges + 8; ++k)
-    many.ask(line_of(k), 1);
+    many.record(first + kLine * std::size_t(k), 1);
   // One line each, up to the range count: the arrays past it are not recorded.
   EXPECT_EQ(many.pending_lines(), std::size_t(CachePrefetch::kMaxRanges));
 }
@@ -83,7 +85,7 @@ TEST(CachePrefetch, RandomRequestsMatchALineByLineCount) {
     for (int a = 0; a < arrays; ++a) {
       const std::size_t begin = std::uniform_int_distribution<std::size_t>(0, 500000)(random);
       const std::size_t bytes = std::uniform_int_distribution<std::size_t>(0, 20000)(random);
-      requests.ask(storage.data() + begin, bytes);
+      requests.record(storage.data() + begin, bytes);
       if (bytes == 0 || budget == 0)
         continue;
       const std::uintptr_t first = (base + begin) / kLine * kLine;
@@ -92,6 +94,10 @@ TEST(CachePrefetch, RandomRequestsMatchALineByLineCount) {
       expected += lines_touched(first, span);
     }
     ASSERT_EQ(requests.pending_lines(), expected) << "trial " << trial;
+    // Independently of the budget's arithmetic: no more than the budget's lines and one partial
+    // line per array.
+    ASSERT_LE(expected, CachePrefetch::kBytesPerWorld / kLine + std::size_t(arrays))
+        << "trial " << trial;
     std::size_t left = expected;
     while (left > 0) {
       const std::size_t slice = std::uniform_int_distribution<std::size_t>(0, 100)(random);
