@@ -36,10 +36,8 @@ class CachePrefetch {
   template <class T>
   static void issue_now(const T& object) {
     const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(&object);
-    for (std::uintptr_t line = begin / kLineBytes * kLineBytes; line < begin + sizeof(T);
-         line += kLineBytes)
-      __builtin_prefetch(reinterpret_cast<const void*>(line), /*read*/ 0,
-                         /*locality: the second-level hint*/ 2);
+    for (std::uintptr_t line = line_of(begin); line < begin + sizeof(T); line += kLineBytes)
+      issue_line(line);
   }
 
   // Records every cache line that bytes [data, data + bytes) touch, as far as the budget goes.
@@ -47,11 +45,10 @@ class CachePrefetch {
     if (bytes == 0 || left_ == 0 || ranges_ == kMaxRanges)
       return;
     const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(data);
-    const std::uintptr_t first_line = begin / kLineBytes * kLineBytes;
+    const std::uintptr_t first_line = line_of(begin);
     const std::size_t span = begin + bytes - first_line;
     const std::size_t asked = span < left_ ? span : left_;
     left_ -= asked;
-    // Addresses as integers: the first line may begin before the object.
     next_line_[ranges_] = first_line;
     end_[ranges_] = first_line + asked;
     ++ranges_;
@@ -74,8 +71,7 @@ class CachePrefetch {
     for (; lines > 0 && issued_ < ranges_; ++issued_) {
       std::uintptr_t& line = next_line_[issued_];
       for (; lines > 0 && line < end_[issued_]; line += kLineBytes, --lines)
-        __builtin_prefetch(reinterpret_cast<const void*>(line), /*read*/ 0,
-                           /*locality: the second-level hint*/ 2);
+        issue_line(line);
       if (line < end_[issued_])
         return;
     }
@@ -98,6 +94,15 @@ class CachePrefetch {
   }
 
  private:
+  // Addresses as integers: a line may begin before the object it is asked for.
+  static std::uintptr_t line_of(std::uintptr_t address) {
+    return address / kLineBytes * kLineBytes;
+  }
+  static void issue_line(std::uintptr_t line) {
+    __builtin_prefetch(reinterpret_cast<const void*>(line), /*read*/ 0,
+                       /*locality: the second-level hint*/ 2);
+  }
+
   std::size_t left_ = kBytesPerWorld;
   int ranges_ = 0;
   int issued_ = 0;  // ranges before this one are all asked for
